@@ -1,0 +1,66 @@
+//! Typed errors of the numerical core. The C boundary maps each variant onto a fixed
+//! status code (`ffi::status`); inside the crate nothing is a string until it is displayed.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in jprom, with enough context to say what and where.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum JpError {
+    /// An array has the wrong length or a matrix the wrong shape.
+    #[error("bad size for {what}: expected {expected}, got {got}")]
+    BadSize { what: String, expected: usize, got: usize },
+
+    /// A value is outside its admissible range (negative stiffness, NaN, index out of range, ...).
+    #[error("invalid value for {what}: {reason}")]
+    InvalidValue { what: String, reason: String },
+
+    /// A matrix that must be factorised is singular or not positive definite.
+    #[error("singular matrix: {what}")]
+    SingularMatrix { what: String },
+
+    /// An iterative solver stopped without meeting its tolerance.
+    #[error("no convergence in {what} after {iterations} iterations (residual {residual:.3e})")]
+    NoConvergence { what: String, iterations: usize, residual: f64 },
+
+    /// Reading or writing a file failed, or a file is malformed.
+    #[error("I/O error on {path}: {reason}")]
+    Io { path: String, reason: String },
+
+    /// A file could be read but its content is malformed, with the line where it went wrong.
+    #[error("parse error in {path} at line {line}: {reason}")]
+    Parse { path: String, line: usize, reason: String },
+
+    /// The caller asked to stop (progress callback returned non-zero).
+    #[error("cancelled by the caller")]
+    Cancelled,
+
+    /// An eigen solver failed or returned too few converged pairs.
+    #[error("eigen solver failed: {what}")]
+    Eigen { what: String },
+}
+
+/// Result alias used throughout the crate.
+pub type Result<T> = std::result::Result<T, JpError>;
+
+impl JpError {
+    /// Shorthand for [`JpError::InvalidValue`].
+    pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
+        JpError::InvalidValue { what: what.into(), reason: reason.into() }
+    }
+    /// Shorthand for [`JpError::BadSize`].
+    pub fn bad_size(what: impl Into<String>, expected: usize, got: usize) -> Self {
+        JpError::BadSize { what: what.into(), expected, got }
+    }
+    /// Shorthand for [`JpError::SingularMatrix`].
+    pub fn singular(what: impl Into<String>) -> Self {
+        JpError::SingularMatrix { what: what.into() }
+    }
+}
+
+/// Checks that every entry is finite; names the first bad index.
+pub fn check_finite(what: &str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(JpError::invalid(what, format!("entry {i} is not finite ({})", values[i]))),
+    }
+}

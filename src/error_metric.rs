@@ -1,0 +1,1 @@
+//! Error predictor e* (method.md §10).

@@ -1,0 +1,66 @@
+//! Harmonic balance (method.md §2): the unknowns' layout, the linear part of a harmonic
+//! system, the residual and Jacobian with AFT contact forces, Newton/trust-region
+//! solution of one frequency point, and pseudo-arclength continuation over a band.
+//!
+//! Every solver in jprom (full order, condensed full order, FR and NLR ROMs) is a
+//! [`HarmonicSystem`]: per harmonic `h` it has `n_h` unknowns (the same for cos and sin), a
+//! linear part `D_h(omega)` and force `f_h(omega)`, and a map `W_h` from its unknowns to the
+//! contact coordinates `w`. The residual is `r = D z - f + W^T F(W z)` and the Jacobian
+//! `D + W^T K̂ W`, in the real cos/sin form
+//!
+//! ```text
+//! [ Re D_h   Im D_h ] [z_hc]   [f_hc]
+//! [-Im D_h   Re D_h ] [z_hs] = [f_hs]      (complex D_h, z = z_c - i z_s, f = f_c - i f_s)
+//! ```
+
+pub mod layout;
+
+pub use layout::HarmonicLayout;
+
+use crate::contact::ContactLaw;
+use crate::error::Result;
+use faer::{Mat, MatRef};
+
+/// How a system's harmonic-`h` unknowns map onto the contact coordinates `w` (length `n_w`).
+#[derive(Clone, Copy, Debug)]
+pub enum ContactMap<'a> {
+    /// `w` is the first `n_w` unknowns of the harmonic (full and condensed full-order systems).
+    Leading,
+    /// `w = W_h z_h` with a dense `n_w x n_h` matrix (reduced models).
+    Dense(MatRef<'a, f64>),
+}
+
+/// The linear part of a harmonic system at one frequency.
+#[derive(Clone, Debug)]
+pub struct LinearPart {
+    /// `D_0` (`n_0 x n_0`) and the static force `f_0`.
+    pub d0: Mat<f64>,
+    pub f0: Vec<f64>,
+    /// For `h = 1..=H` (index `h - 1`): real and imaginary parts of the complex `D_h`
+    /// (`n_h x n_h`), and the cos and sin parts of the force.
+    pub dh_re: Vec<Mat<f64>>,
+    pub dh_im: Vec<Mat<f64>>,
+    pub fh_cos: Vec<Vec<f64>>,
+    pub fh_sin: Vec<Vec<f64>>,
+}
+
+/// A system that the HBM solver, the continuation and the error metric can work on.
+pub trait HarmonicSystem: Sync {
+    /// Harmonics and unknowns per harmonic.
+    fn layout(&self) -> &HarmonicLayout;
+    /// Laws of the contacts, in order.
+    fn contact_laws(&self) -> &[ContactLaw];
+    /// Offset of each contact's coordinates in `w`.
+    fn contact_offsets(&self) -> &[usize];
+    /// Number of contact coordinates `n_w`.
+    fn n_contact_coords(&self) -> usize;
+    /// `W_h` for harmonic `h = 0..=H`.
+    fn contact_map(&self, h: usize) -> ContactMap<'_>;
+    /// `D_h(omega)` and `f_h(omega)` for all harmonics.
+    fn linear_part(&self, omega: f64) -> Result<LinearPart>;
+    /// Physical response at the output DoFs, per harmonic coefficient: entry `k * n_out + j`
+    /// (`k = 0`, `2h - 1`, `2h` as in [`crate::aft`]).
+    fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>>;
+    /// Number of output DoFs.
+    fn n_outputs(&self) -> usize;
+}

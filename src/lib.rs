@@ -1,0 +1,38 @@
+//! # jprom
+//!
+//! Steady-state forced response of structures with friction contacts by harmonic balance
+//! (HBM) with alternating frequency-time (AFT) contact forces, and its reduction by
+//! Jacobian Projection (JP). The formulation is written down in `method.md` (shipped in the
+//! repository's shared notes); equation numbers `(n)` in doc comments refer to the JP paper.
+//!
+//! Map of the crate, following the method:
+//! - [`model`]: `M`, `K`, damping, excitation, contact elements, output DoFs (§1).
+//! - [`contact`]: the time-domain 3D stick/slip/separation law and the 1D Jenkins element (§4).
+//! - [`aft`]: inverse FFT, contact law, FFT, and the analytical Jacobian `K̂` (§3).
+//! - [`hbm`]: harmonic layout, dynamic stiffness, residual, Newton/trust-region, continuation (§2).
+//! - [`condensation`]: condensation onto the contact DoFs (§5).
+//! - [`cms`]: hexahedral blade model generator and sparse Craig-Bampton reduction.
+//! - [`io`]: Matrix Market and node/DoF-map import.
+//! - [`jp`]: JP modes, boundary-condition prediction, SVD conditioning (§6-8).
+//! - [`rom`]: full-DoF (FR) and nonlinear-DoF (NLR) reduced models (§9).
+//! - [`error_metric`]: the error predictor `e*` (§10).
+//! - [`ffi`]: the C ABI; holds no numerics.
+//!
+//! Units are the caller's; the built-in blade uses mm, tonne, s (so N and MPa). Frequencies in
+//! the library are angular (`omega`, rad/s) unless a name says `_hz`.
+
+pub mod error;
+pub mod linalg;
+pub mod model;
+pub mod contact;
+pub mod aft;
+pub mod hbm;
+pub mod condensation;
+pub mod cms;
+pub mod io;
+pub mod jp;
+pub mod rom;
+pub mod error_metric;
+pub mod ffi;
+
+pub use error::{JpError, Result};

@@ -1,0 +1,151 @@
+//! Relative contact coordinates: the change of variables `x = T z` with
+//! `z = [w; y]`, where `w` stacks every contact's local relative displacement
+//! (`w_c = R_c (x_a - x_b)` or `R_c x_a`) and `y` holds the physical DoFs that are not the `a`
+//! node of a contact, in their original order.
+//!
+//! In these coordinates the contact forces act on `w` only, as `-F(w)`, so the HBM residual
+//! is `D z - f_E + [F(w); 0]` and its Jacobian `D + K̂` with `K̂ = dF/dw` on the leading block.
+//! Node pairs become a contact coordinate plus ordinary linear DoFs, which is what makes the
+//! condensation of §5 and the contact rows of the JP bases (§9) simple.
+
+use crate::contact::ContactLaw;
+use crate::error::Result;
+use crate::model::Model;
+use faer::Mat;
+
+/// The transformation `x = T z` and the model's matrices and forces in `z` coordinates.
+#[derive(Clone, Debug)]
+pub struct ContactCoordinates {
+    /// Number of physical DoFs.
+    pub n_dof: usize,
+    /// Number of contact coordinates `n_w` (the leading entries of `z`).
+    pub n_w: usize,
+    /// Offset of each contact's coordinates in `w`.
+    pub offsets: Vec<usize>,
+    /// Contact laws, in contact order.
+    pub laws: Vec<ContactLaw>,
+    /// For each physical DoF `i`, the entries `(j, T_ij)` of row `i` of `T`.
+    pub rows: Vec<Vec<(usize, f64)>>,
+    /// For each `z` coordinate `j >= n_w`, the physical DoF it is.
+    pub linear_dofs: Vec<usize>,
+    /// `T^T M T`, `T^T K T`, `T^T C T`.
+    pub mass: Mat<f64>,
+    pub stiffness: Mat<f64>,
+    pub damping: Mat<f64>,
+    /// `T^T f_E^0`, and `T^T` of the cos and sin parts of `f_E^h`, `h = 1..=H` (scaled).
+    pub static_force: Vec<f64>,
+    pub harmonic_force: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Output DoFs of the model (physical indices).
+    pub output_dofs: Vec<usize>,
+}
+
+impl ContactCoordinates {
+    /// Builds the transformation for `model` and transforms its matrices, with forces for
+    /// harmonics `1..=harmonics`. Cost `O(n^2)` per matrix.
+    pub fn new(model: &Model, harmonics: usize) -> Result<Self> {
+        model.validate()?;
+        let n = model.n_dof();
+        let mut offsets = Vec::with_capacity(model.contacts.len());
+        let mut n_w = 0;
+        for c in &model.contacts {
+            offsets.push(n_w);
+            n_w += c.dim();
+        }
+        let mut is_a = vec![false; n];
+        for c in &model.contacts {
+            for &d in &c.dofs_a {
+                is_a[d] = true;
+            }
+        }
+        let linear_dofs: Vec<usize> = (0..n).filter(|&i| !is_a[i]).collect();
+        let mut z_of_dof = vec![usize::MAX; n];
+        for (k, &d) in linear_dofs.iter().enumerate() {
+            z_of_dof[d] = n_w + k;
+        }
+        let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for &d in &linear_dofs {
+            rows[d].push((z_of_dof[d], 1.0));
+        }
+        // x_a = R^T w + x_b  (R orthonormal, w = R (x_a - x_b)).
+        for (c, off) in model.contacts.iter().zip(&offsets) {
+            let dim = c.dim();
+            let r = c.rotation();
+            for (i, &da) in c.dofs_a.iter().enumerate() {
+                for k in 0..dim {
+                    let coef = r[k * dim + i];
+                    if coef != 0.0 {
+                        rows[da].push((off + k, coef));
+                    }
+                }
+                if let Some(b) = &c.dofs_b {
+                    rows[da].push((z_of_dof[b[i]], 1.0));
+                }
+            }
+        }
+        let nz = n; // T is square and invertible
+        let transform = |a: &Mat<f64>| -> Mat<f64> {
+            // B = A T  (n x nz)
+            let mut b = Mat::<f64>::zeros(n, nz);
+            for (l, row) in rows.iter().enumerate() {
+                for &(k, t) in row {
+                    for i in 0..n {
+                        b[(i, k)] += a[(i, l)] * t;
+                    }
+                }
+            }
+            // T^T B
+            let mut out = Mat::<f64>::zeros(nz, nz);
+            for (i, row) in rows.iter().enumerate() {
+                for &(j, t) in row {
+                    for k in 0..nz {
+                        out[(j, k)] += t * b[(i, k)];
+                    }
+                }
+            }
+            out
+        };
+        let apply_t_transpose = |f: &[f64]| -> Vec<f64> {
+            let mut out = vec![0.0; nz];
+            for (i, row) in rows.iter().enumerate() {
+                for &(j, t) in row {
+                    out[j] += t * f[i];
+                }
+            }
+            out
+        };
+        let mass = transform(&model.mass);
+        let stiffness = transform(&model.stiffness);
+        let damping = transform(&model.damping_matrix());
+        let static_force = apply_t_transpose(&model.excitation.static_force);
+        let harmonic_force = (1..=harmonics)
+            .map(|h| {
+                let (c, s) = model.excitation.harmonic(h, n);
+                (apply_t_transpose(&c), apply_t_transpose(&s))
+            })
+            .collect();
+        Ok(ContactCoordinates {
+            n_dof: n,
+            n_w,
+            offsets,
+            laws: model.contacts.iter().map(|c| c.law.clone()).collect(),
+            rows,
+            linear_dofs,
+            mass,
+            stiffness,
+            damping,
+            static_force,
+            harmonic_force,
+            output_dofs: model.output_dofs.clone(),
+        })
+    }
+
+    /// Physical displacement `x = T z` of one harmonic component.
+    pub fn to_physical(&self, z: &[f64]) -> Vec<f64> {
+        self.rows.iter().map(|row| row.iter().map(|&(j, t)| t * z[j]).sum()).collect()
+    }
+
+    /// Physical displacement at the output DoFs, `(T z)[output_dofs]`.
+    pub fn at_outputs(&self, z: &[f64]) -> Vec<f64> {
+        self.output_dofs.iter().map(|&i| self.rows[i].iter().map(|&(j, t)| t * z[j]).sum()).collect()
+    }
+}

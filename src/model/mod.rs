@@ -1,0 +1,226 @@
+//! The structural model (method.md §1): free `M`, `K`, proportional damping, excitation per
+//! harmonic, contact elements and output DoFs.
+
+pub mod contact_coordinates;
+
+use crate::contact::Contact;
+use crate::error::{check_finite, JpError, Result};
+use crate::linalg::{check_symmetric, norm2, serde_mat};
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+pub use contact_coordinates::ContactCoordinates;
+
+/// Proportional damping `C = mass_coeff * M + stiffness_coeff * K`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Damping {
+    /// `alpha` in `C = alpha M + beta K`.
+    pub mass_coeff: f64,
+    /// `beta` in `C = alpha M + beta K`.
+    pub stiffness_coeff: f64,
+}
+
+impl Damping {
+    /// Stiffness-proportional damping giving modal damping ratio `zeta` at angular frequency
+    /// `omega` (`beta = 2 zeta / omega`).
+    pub fn from_modal_ratio(zeta: f64, omega: f64) -> Self {
+        Damping { mass_coeff: 0.0, stiffness_coeff: 2.0 * zeta / omega }
+    }
+}
+
+/// The cos and sin parts of one harmonic of the excitation: `f(t) = cos * cos(h w t) + sin * sin(h w t)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicForce {
+    pub cos: Vec<f64>,
+    pub sin: Vec<f64>,
+}
+
+/// Excitation `f_E`: a static part and harmonic parts `h = 1, 2, ...` (missing ones are zero).
+/// The dynamic parts are multiplied by `dynamic_scale`, so that the excitation level
+/// `alpha = |f_E^0| / |f_E^1|` can be swept without rebuilding anything.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Excitation {
+    pub static_force: Vec<f64>,
+    pub harmonics: Vec<HarmonicForce>,
+    pub dynamic_scale: f64,
+}
+
+impl Excitation {
+    /// No force on `n` DoFs.
+    pub fn zero(n: usize) -> Self {
+        Excitation { static_force: vec![0.0; n], harmonics: Vec::new(), dynamic_scale: 1.0 }
+    }
+
+    /// Effective cos and sin parts of harmonic `h >= 1` (scaled), zero if not given.
+    pub fn harmonic(&self, h: usize, n: usize) -> (Vec<f64>, Vec<f64>) {
+        match self.harmonics.get(h.wrapping_sub(1)) {
+            Some(hf) if h >= 1 => (
+                hf.cos.iter().map(|v| v * self.dynamic_scale).collect(),
+                hf.sin.iter().map(|v| v * self.dynamic_scale).collect(),
+            ),
+            _ => (vec![0.0; n], vec![0.0; n]),
+        }
+    }
+
+    /// `alpha = |f_E^0| / |f_E^1|` with the current scale (infinite if there is no dynamic force).
+    pub fn level(&self) -> f64 {
+        let f1 = match self.harmonics.first() {
+            Some(hf) => (norm2(&hf.cos).powi(2) + norm2(&hf.sin).powi(2)).sqrt() * self.dynamic_scale.abs(),
+            None => 0.0,
+        };
+        norm2(&self.static_force) / f1
+    }
+
+    /// Sets `dynamic_scale` so that `level()` equals `alpha`.
+    pub fn set_level(&mut self, alpha: f64) -> Result<()> {
+        if !(alpha.is_finite() && alpha > 0.0) {
+            return Err(JpError::invalid("excitation level", format!("must be finite and > 0, got {alpha}")));
+        }
+        let f1 = match self.harmonics.first() {
+            Some(hf) => (norm2(&hf.cos).powi(2) + norm2(&hf.sin).powi(2)).sqrt(),
+            None => 0.0,
+        };
+        let f0 = norm2(&self.static_force);
+        if f1 == 0.0 || f0 == 0.0 {
+            return Err(JpError::invalid("excitation level", "needs nonzero static and first-harmonic forces"));
+        }
+        self.dynamic_scale = f0 / (alpha * f1);
+        Ok(())
+    }
+}
+
+/// A structural model ready for harmonic balance. Build with [`Model::new`], which validates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    /// Mass matrix `M` (symmetric, positive diagonal).
+    #[serde(with = "serde_mat")]
+    pub mass: Mat<f64>,
+    /// Stiffness matrix `K` of the free structure (symmetric).
+    #[serde(with = "serde_mat")]
+    pub stiffness: Mat<f64>,
+    /// Proportional damping.
+    pub damping: Damping,
+    /// Excitation `f_E`.
+    pub excitation: Excitation,
+    /// Contact elements.
+    pub contacts: Vec<Contact>,
+    /// DoFs whose response is reported (e.g. the blade's output nodes).
+    pub output_dofs: Vec<usize>,
+}
+
+/// Relative tolerance of the symmetry check on `M` and `K`.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-9;
+
+impl Model {
+    /// Builds and validates a model. See [`Model::validate`] for the checks.
+    pub fn new(
+        mass: Mat<f64>,
+        stiffness: Mat<f64>,
+        damping: Damping,
+        excitation: Excitation,
+        contacts: Vec<Contact>,
+        output_dofs: Vec<usize>,
+    ) -> Result<Self> {
+        let m = Model { mass, stiffness, damping, excitation, contacts, output_dofs };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Number of DoFs.
+    pub fn n_dof(&self) -> usize {
+        self.stiffness.nrows()
+    }
+
+    /// Checks sizes, symmetry (to [`SYMMETRY_TOLERANCE`]), finite values, positive masses,
+    /// contact parameters and DoF indices, and that no DoF is the `a` node of two contacts or
+    /// both an `a` node and a `b` node (needed for the relative contact coordinates).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] or [`JpError::InvalidValue`] naming the offending item.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.stiffness.nrows();
+        if n == 0 {
+            return Err(JpError::invalid("stiffness", "model has no DoF"));
+        }
+        if self.mass.nrows() != n || self.mass.ncols() != n {
+            return Err(JpError::bad_size("mass (rows x cols)", n * n, self.mass.nrows() * self.mass.ncols()));
+        }
+        check_symmetric("stiffness", &self.stiffness, SYMMETRY_TOLERANCE)?;
+        check_symmetric("mass", &self.mass, SYMMETRY_TOLERANCE)?;
+        for i in 0..n {
+            if !(self.mass[(i, i)] > 0.0) {
+                return Err(JpError::invalid("mass", format!("diagonal entry {i} is not positive ({})", self.mass[(i, i)])));
+            }
+        }
+        let d = self.damping;
+        check_finite("damping", &[d.mass_coeff, d.stiffness_coeff])?;
+        if d.mass_coeff < 0.0 || d.stiffness_coeff < 0.0 {
+            return Err(JpError::invalid("damping", "coefficients must be >= 0"));
+        }
+        let e = &self.excitation;
+        if e.static_force.len() != n {
+            return Err(JpError::bad_size("excitation.static_force", n, e.static_force.len()));
+        }
+        check_finite("excitation.static_force", &e.static_force)?;
+        check_finite("excitation.dynamic_scale", &[e.dynamic_scale])?;
+        for (i, hf) in e.harmonics.iter().enumerate() {
+            let what = format!("excitation.harmonics[{i}]");
+            if hf.cos.len() != n {
+                return Err(JpError::bad_size(format!("{what}.cos"), n, hf.cos.len()));
+            }
+            if hf.sin.len() != n {
+                return Err(JpError::bad_size(format!("{what}.sin"), n, hf.sin.len()));
+            }
+            check_finite(&format!("{what}.cos"), &hf.cos)?;
+            check_finite(&format!("{what}.sin"), &hf.sin)?;
+        }
+        let mut role = vec![0u8; n]; // 1 = a node, 2 = b node
+        for (i, c) in self.contacts.iter().enumerate() {
+            c.validate(i, n)?;
+            for &dof in &c.dofs_a {
+                if role[dof] != 0 {
+                    return Err(JpError::invalid(
+                        format!("contact[{i}].dofs_a"),
+                        format!("DoF {dof} already belongs to another contact"),
+                    ));
+                }
+                role[dof] = 1;
+            }
+        }
+        for (i, c) in self.contacts.iter().enumerate() {
+            for &dof in c.dofs_b.iter().flatten() {
+                if role[dof] == 1 {
+                    return Err(JpError::invalid(
+                        format!("contact[{i}].dofs_b"),
+                        format!("DoF {dof} is the 'a' node of a contact; chain pairs through their 'b' nodes"),
+                    ));
+                }
+                role[dof] = 2;
+            }
+        }
+        for &o in &self.output_dofs {
+            if o >= n {
+                return Err(JpError::invalid("output_dofs", format!("DoF {o} >= model size {n}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Damping matrix `C = alpha M + beta K`.
+    pub fn damping_matrix(&self) -> Mat<f64> {
+        let (a, b) = (self.damping.mass_coeff, self.damping.stiffness_coeff);
+        Mat::from_fn(self.n_dof(), self.n_dof(), |i, j| a * self.mass[(i, j)] + b * self.stiffness[(i, j)])
+    }
+
+    /// Saves as JSON (serde; the format is versioned by [`crate::io::FORMAT_VERSION`]).
+    pub fn save_json(&self, path: &std::path::Path) -> Result<()> {
+        crate::io::save_json("model", self, path)
+    }
+
+    /// Loads from JSON and validates.
+    pub fn load_json(path: &std::path::Path) -> Result<Self> {
+        let m: Model = crate::io::load_json("model", path)?;
+        m.validate()?;
+        Ok(m)
+    }
+}
