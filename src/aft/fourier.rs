@@ -21,9 +21,11 @@ pub enum AftBackend {
 }
 
 /// Largest `H` for which [`AftBackend::Auto`] uses the tables; above it, rustfft. Chosen from
-/// `benches/aft.rs` (see its table): on the Jacobian, whose cost dominates, the tables do
-/// `3 (2H+1)` multiply-adds per sample and column against `~ 5 log2(Nt) / 2` for a packed FFT.
-pub const TABLES_MAX_H: usize = 8;
+/// `benches/aft.rs` (3D contact with Jacobian, 2-core machine): the two tie at `H = 1`
+/// (10.9 vs 10.1 us per contact at `Nt = 64`) and rustfft wins from `H = 3` on (19.0 vs 13.4
+/// us at `H = 3`, 57 vs 25 us at `H = 8`), because the table DFT of the Jacobian costs
+/// `O(Nt (2H+1) n)` against `O(n Nt log Nt)` for packed FFTs of its columns.
+pub const TABLES_MAX_H: usize = 1;
 
 /// Transform tables and plans for one `(H, Nt)`.
 pub(crate) struct Fourier {
