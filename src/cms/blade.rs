@@ -15,9 +15,10 @@
 //! paper's total stiffness. Local frames have rows `t1 = +y` (the flap-bending direction),
 //! `t2 = n x ... ` completing a right-handed frame, and `n` as above.
 //!
-//! Loads: the static pre-twist `f_E^0` is a torque about the span axis, applied on the shroud's
-//! top face as nodal forces `s (-y, x, 0)`, which turns the shroud so that both patches press on
-//! the ground. `s` is chosen so that, in the linear stuck state (contact springs, `n0 = 0`), the
+//! Loads: the static pre-twist `f_E^0` is a couple about the span axis that pushes each shroud
+//! arm onto its ground face: forces along the patch normal `n` on the nodes of the arm's
+//! opposite chord face (the mirror image of the patch grid), so that the arm is pressed through
+//! its chord (a rigid-rotation torque would also slide the patches: `|T| / N > mu`). The scale is chosen so that, in the linear stuck state (contact springs, `n0 = 0`), the
 //! normal force on each patch is [`BladeParams::preload_per_patch`] on average (default 300 N;
 //! the two patches differ by the blade's asymmetry under twist; both are reported in
 //! [`BladeFe::stuck_patch_forces`]). The first-harmonic load `f_E^1` is a force
@@ -78,16 +79,16 @@ pub struct BladeParams {
 impl Default for BladeParams {
     fn default() -> Self {
         BladeParams {
-            length: 100.0,
-            chord: 30.0,
+            length: 105.0,
+            chord: 12.0,
             thickness: 5.0,
             shroud_height: 4.0,
-            shroud_half_width: 12.0,
+            shroud_half_width: 20.0,
             patch_width: 3.0,
-            n_span: 45,
-            n_chord: 12,
-            n_thickness: 4,
-            n_shroud_gap: 3,
+            n_span: 54,
+            n_chord: 16,
+            n_thickness: 6,
+            n_shroud_gap: 5,
             refinement: 1,
             material: Material::STEEL_MM_TONNE,
             mu: 0.4,
@@ -206,6 +207,8 @@ pub struct BladeFe {
     pub stuck_patch_forces: [f64; 2],
     /// Largest tangential-to-normal force ratio over the contact nodes in that state.
     pub stuck_max_friction_ratio: f64,
+    /// Tangential-to-normal ratio of each patch's resultant force in that state.
+    pub stuck_patch_friction_ratio: [f64; 2],
 }
 
 fn push_range(v: &mut Vec<f64>, a: f64, b: f64, n: usize) {
@@ -350,15 +353,18 @@ impl BuiltinBlade {
         for &nd in &output_nodes {
             harmonic_force[3 * nd + 1] = p.forcing_per_node;
         }
-        // Unit pre-twist torque distribution on the shroud top face.
-        let k_top = nz - 1;
+        // Unit pressing load: each shroud arm is pushed towards its ground face by forces
+        // along the patch normal on the opposite chord face of the arm (same y, z grid).
         let mut twist = vec![0.0; n_dof];
-        for j in 0..ny {
-            for i in 0..nx {
-                let nd = node_of[grid(i, j, k_top)];
-                if nd != usize::MAX {
-                    twist[3 * nd] = -ys[j];
-                    twist[3 * nd + 1] = xs[i];
+        for cn in &contacts {
+            let i_opp = if cn.patch == 0 { nx - 1 } else { 0 };
+            let xyz = coords[cn.node];
+            let jj = ys.iter().position(|&y| y == xyz[1]).unwrap_or(0);
+            let kk = zs.iter().position(|&z| z == xyz[2]).unwrap_or(0);
+            let nd = node_of[grid(i_opp, jj, kk)];
+            if nd != usize::MAX {
+                for comp in 0..3 {
+                    twist[3 * nd + comp] += cn.frame[2][comp];
                 }
             }
         }
@@ -376,6 +382,7 @@ impl BuiltinBlade {
             harmonic_force,
             stuck_patch_forces: [0.0; 2],
             stuck_max_friction_ratio: 0.0,
+            stuck_patch_friction_ratio: [0.0; 2],
         };
         // Scale the twist so that the mean stuck normal force per patch is the target.
         let k_stuck = fe.stuck_stiffness()?;
@@ -399,6 +406,7 @@ impl BuiltinBlade {
         let (forces, ratio) = fe.stuck_contact_forces(&us);
         fe.stuck_patch_forces = forces;
         fe.stuck_max_friction_ratio = ratio;
+        fe.stuck_patch_friction_ratio = fe.stuck_patch_resultant_ratio(&us);
         Ok(fe)
     }
 }
@@ -450,6 +458,19 @@ impl BladeFe {
             ratio = ratio.max(f[0].hypot(f[1]) / f[2].abs().max(f64::MIN_POSITIVE));
         }
         (n, ratio)
+    }
+
+    /// Tangential-to-normal ratio of each patch's resultant spring force at displacement `u`.
+    pub fn stuck_patch_resultant_ratio(&self, u: &[f64]) -> [f64; 2] {
+        let kd = self.contact_law.stuck_stiffness();
+        let mut f = [[0.0f64; 3]; 2];
+        for cn in &self.contacts {
+            for q in 0..3 {
+                let w: f64 = (0..3).map(|a| cn.frame[q][a] * u[cn.dofs[a]]).sum();
+                f[cn.patch][q] += kd[q] * w;
+            }
+        }
+        [f[0][0].hypot(f[0][1]) / f[0][2], f[1][0].hypot(f[1][1]) / f[1][2]]
     }
 
     /// Boundary DoFs of the Craig-Bampton reduction: the contact nodes' DoFs (3 each, in
