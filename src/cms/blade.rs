@@ -15,10 +15,11 @@
 //! paper's total stiffness. Local frames have rows `t1 = +y` (the flap-bending direction),
 //! `t2 = n x ... ` completing a right-handed frame, and `n` as above.
 //!
-//! Loads: the static pre-twist `f_E^0` is a couple about the span axis that pushes each shroud
-//! arm onto its ground face: forces along the patch normal `n` on the nodes of the arm's
-//! opposite chord face (the mirror image of the patch grid), so that the arm is pressed through
-//! its chord (a rigid-rotation torque would also slide the patches: `|T| / N > mu`). The scale is chosen so that, in the linear stuck state (contact springs, `n0 = 0`), the
+//! Loads: the static pre-twist `f_E^0` is a couple about the span axis that presses each shroud
+//! arm onto its ground face: equal forces along the patch normal `n` on every contact node (so
+//! that it loads boundary DoFs only and the Craig-Bampton static response stays exact; a
+//! rigid-rotation torque on the shroud would also slide the patches, `|T| / N > mu`, unless the
+//! shroud arms are long compared with the chord, as they are here). The scale is chosen so that, in the linear stuck state (contact springs, `n0 = 0`), the
 //! normal force on each patch is [`BladeParams::preload_per_patch`] on average (default 300 N;
 //! the two patches differ by the blade's asymmetry under twist; both are reported in
 //! [`BladeFe::stuck_patch_forces`]). The first-harmonic load `f_E^1` is a force
@@ -353,19 +354,12 @@ impl BuiltinBlade {
         for &nd in &output_nodes {
             harmonic_force[3 * nd + 1] = p.forcing_per_node;
         }
-        // Unit pressing load: each shroud arm is pushed towards its ground face by forces
-        // along the patch normal on the opposite chord face of the arm (same y, z grid).
+        // Unit pressing load: a force along the patch normal (into the ground) on every
+        // contact node, so that f_E^0 acts on boundary DoFs only.
         let mut twist = vec![0.0; n_dof];
         for cn in &contacts {
-            let i_opp = if cn.patch == 0 { nx - 1 } else { 0 };
-            let xyz = coords[cn.node];
-            let jj = ys.iter().position(|&y| y == xyz[1]).unwrap_or(0);
-            let kk = zs.iter().position(|&z| z == xyz[2]).unwrap_or(0);
-            let nd = node_of[grid(i_opp, jj, kk)];
-            if nd != usize::MAX {
-                for comp in 0..3 {
-                    twist[3 * nd + comp] += cn.frame[2][comp];
-                }
+            for comp in 0..3 {
+                twist[cn.dofs[comp]] += cn.frame[2][comp];
             }
         }
         let mut fe = BladeFe {
