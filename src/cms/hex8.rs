@@ -175,7 +175,19 @@ pub fn stiffness(coords: &[[f64; 3]; 8], mat: &Material) -> Result<[[f64; 24]; 2
             }
         }
     }
+    symmetrise(&mut k);
     Ok(k)
+}
+
+/// Makes a 24 x 24 matrix exactly symmetric (removes round-off asymmetry).
+fn symmetrise(a: &mut [[f64; 24]; 24]) {
+    for r in 0..24 {
+        for c in 0..r {
+            let v = 0.5 * (a[r][c] + a[c][r]);
+            a[r][c] = v;
+            a[c][r] = v;
+        }
+    }
 }
 
 /// Consistent element mass `M_e = rho int N^T N dV` (24 x 24, row-major), 2x2x2 Gauss.

@@ -35,7 +35,9 @@ pub fn sparse_from_triplets(nrows: usize, ncols: usize, mut triplets: Vec<(usize
             return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) is not finite ({v})")));
         }
     }
-    triplets.sort_unstable_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
+    // Stable sort: duplicates are summed in input order, so that a symmetric set of
+    // triplets gives an exactly symmetric matrix.
+    triplets.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
     let mut col_ptr = vec![0usize; ncols + 1];
     let mut row_idx = Vec::with_capacity(triplets.len());
     let mut val: Vec<f64> = Vec::with_capacity(triplets.len());
