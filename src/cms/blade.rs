@@ -13,7 +13,7 @@
 //! the shroud (its height and the two patch bands in `y`), never the blade. Per-node contact
 //! stiffnesses are the paper's values times `9 / nodes_per_patch`, so each patch keeps the
 //! paper's total stiffness. Local frames have rows `t1 = +y` (the flap-bending direction),
-//! `t2 = n x ... ` completing a right-handed frame, and `n` as above.
+//! `t2 = n x t1` (so `t1 x t2 = n`, right-handed: `-z` on patch 0, `+z` on patch 1) and `n` as above.
 //!
 //! Loads: the static pre-twist `f_E^0` is a couple about the span axis that presses each shroud
 //! arm onto its ground face: equal forces along the patch normal `n` on every contact node (so
