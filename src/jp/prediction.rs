@@ -1,0 +1,1 @@
+//! Prediction of the boundary conditions (method.md §7): placeholder until the AFT lands.
