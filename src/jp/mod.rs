@@ -16,6 +16,7 @@ pub mod prediction;
 pub use basis::{JpBasis, BasisOptions};
 pub use conditioning::{condition, ConditionedBasis};
 pub use modes::{jp_modes, JpModes, ModeOptions};
+pub use prediction::{predict_basis, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, Spacing};
 
 
 use crate::aft::ContactForces;
