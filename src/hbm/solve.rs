@@ -311,6 +311,65 @@ pub fn solve_point(
     let plan = plan_for(system, opts)?;
     let lin = system.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
-    let outcome = newton(system, &lin, plan.as_ref(), z0, opts, omega, &mut ws)?;
+    let outcome = match newton(system, &lin, plan.as_ref(), z0.clone(), opts, omega, &mut ws) {
+        Ok(o) => o,
+        Err(e @ JpError::NoConvergence { .. }) if opts.max_iterations > 1 => {
+            load_stepping(system, &lin, plan.as_ref(), z0, opts, omega, &mut ws).map_err(|_| e)?
+        }
+        Err(e) => return Err(e),
+    };
     finish_point(system, plan.as_ref(), omega, outcome, &mut ws)
+}
+
+/// Fallback when Newton fails from the given guess: a homotopy on the dynamic forcing,
+/// `f_h -> lambda f_h` (`h >= 1`) for `lambda` from 0 to 1, each stage starting from the
+/// previous solution. The step in `lambda` doubles after a success and halves after a
+/// failure, down to 1/1024. Friction makes the residual nonsmooth, and a far guess can leave
+/// the trust region stuck at a local minimum of `|r|`; near the stuck (linear) solution at
+/// `lambda = 0` it cannot.
+fn load_stepping(
+    system: &dyn HarmonicSystem,
+    lin: &LinearPart,
+    plan: Option<&AftPlan>,
+    z0: Vec<f64>,
+    opts: &HbmOptions,
+    omega: f64,
+    ws: &mut ResidualWorkspace,
+) -> Result<NewtonOutcome> {
+    let scaled = |lambda: f64| {
+        let mut l = lin.clone();
+        for f in l.fh_cos.iter_mut().chain(l.fh_sin.iter_mut()) {
+            f.iter_mut().for_each(|v| *v *= lambda);
+        }
+        l
+    };
+    let mut current = newton(system, &scaled(0.0), plan, z0, opts, omega, ws)?;
+    let mut iterations = current.iterations;
+    let (mut lambda, mut step) = (0.0f64, 0.25f64);
+    while lambda < 1.0 {
+        let next = (lambda + step).min(1.0);
+        let stage = if next == 1.0 { lin.clone() } else { scaled(next) };
+        match newton(system, &stage, plan, current.z.clone(), opts, omega, ws) {
+            Ok(o) => {
+                iterations += o.iterations;
+                current = o;
+                lambda = next;
+                step = (2.0 * step).min(0.5);
+            }
+            Err(JpError::NoConvergence { iterations: it, .. }) => {
+                iterations += it;
+                step *= 0.5;
+                if step < 1.0 / 1024.0 {
+                    return Err(JpError::NoConvergence {
+                        what: format!("HBM load stepping at omega = {omega}"),
+                        iterations,
+                        residual: f64::NAN,
+                    });
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    current.iterations = iterations;
+    Ok(current)
 }
