@@ -233,3 +233,47 @@ fn harmonic_truncation_converges() {
     assert!(d[2] / a[3] < 1e-2);
 }
 
+
+#[test]
+fn continuation_passes_the_fold_of_a_hardening_gap_contact() {
+    // one node on springs, closing a gap of 0.01 against a stiffer unilateral spring along z:
+    // the resonance bends to the right and folds.
+    let k = Mat::from_fn(3, 3, |i, j| if i == j { 1.0e4 } else { 0.0 });
+    let m = Mat::from_fn(3, 3, |i, j| if i == j { 1.0 } else { 0.0 });
+    let kn = 3.0e4;
+    let law = ContactLaw::Friction3D { kt1: 1.0e3, kt2: 1.0e3, kn, mu: 1.0e3, n0: -kn * 0.01 };
+    let contacts = vec![Contact::ground_3d([0, 1, 2], jprom::contact::IDENTITY_FRAME, law)];
+    let model = model(
+        k,
+        m,
+        Damping { mass_coeff: 0.0, stiffness_coeff: 4e-5 },
+        vec![0.0; 3],
+        vec![harmonic_force(vec![0.0, 0.0, 0.7], vec![0.0; 3])],
+        contacts,
+        vec![2],
+    );
+    // the clipped normal force makes the residual nonsmooth where a sample opens or closes:
+    // Newton can stall near 1e-7 there (a sample switching back and forth), above the default 1e-10.
+    let opts = HbmOptions { residual_tolerance: 1e-8, nt: Some(256), ..HbmOptions::with_harmonics(3) };
+    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let res = sweep(&sys, &SweepOptions::band(70.0, 250.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
+    let omegas: Vec<f64> = res.points.iter().map(|p| p.omega).collect();
+    // The branch must go round the first fold: omega rises, then falls back while the
+    // amplitude keeps growing along the branch. (Known limit, see the closing note of issue 2:
+    // on the unstable branch of this case the corrector can stall on a grazing kink, and the
+    // sweep then ends with StepTooSmall and its error instead of a fake point.)
+    let first_turn = omegas.windows(2).position(|w| w[1] < w[0]).expect("the sweep never turned back");
+    assert!(omegas[first_turn] > 105.0, "turned too early: {omegas:?}");
+    let amp: Vec<f64> = res.points.iter().map(|p| p.output_amplitude(1, 0)).collect();
+    assert!(amp[first_turn + 1] > 0.0 && res.points.len() > first_turn + 1);
+    if res.stopped_early {
+        assert!(res.failure.is_some(), "a sweep that ends early must say why");
+    }
+    assert!(res.points.iter().all(|p| p.residual_norm <= opts.residual_tolerance));
+    // past the fold the contact closes for part of the cycle
+    let peak = res.points.iter().max_by(|a, b| a.output_amplitude(1, 0).total_cmp(&b.output_amplitude(1, 0))).unwrap();
+    let states = &peak.contact_cycles[0].states;
+    assert!(states.iter().any(|s| *s == jprom::contact::ContactState::Separated));
+    assert!(states.iter().any(|s| *s != jprom::contact::ContactState::Separated));
+    assert!(peak.omega > 105.0, "the peak must have moved right of the linear 100 rad/s: {}", peak.omega);
+}

@@ -128,20 +128,15 @@ fn correct(
     sopts: &SweepOptions,
     hopts: &HbmOptions,
     ws: &mut ResidualWorkspace,
+    sphere: Option<(&[f64], f64)>,
 ) -> Result<Corrected> {
     let n = y_pred.len() - 1;
     let mut y = y_pred.to_vec();
     let mut iterations = 0;
+    let mut lz = linearise_checked(system, plan, &y, sopts, ws)?;
     loop {
         let omega = y[n];
-        if !(omega.is_finite() && omega > 0.0) {
-            return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
-        }
-        let lz = linearise(system, plan, &y[..n], omega, sopts, ws)?;
         let rel = norm2(&lz.r) / lz.f_ref;
-        if !rel.is_finite() {
-            return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
-        }
         if rel <= hopts.residual_tolerance {
             return Ok(Corrected { y, lz, iterations });
         }
@@ -152,17 +147,67 @@ fn correct(
                 residual: rel,
             });
         }
-        let b = bordered(&lz, t, m);
+        // Constraint: the pseudo-arclength hyperplane `t . S (y - y_pred) = 0`, or the sphere
+        // `|y - y_c|_S^2 = r^2` around the previous point, which still cuts the branch where it
+        // turns by more than a right angle (a sharp fold made by a contact kink).
+        let (row, g) = match sphere {
+            None => {
+                let dy: Vec<f64> = (0..=n).map(|i| y[i] - y_pred[i]).collect();
+                (t.to_vec(), m.dot(t, &dy))
+            }
+            Some((yc, radius)) => {
+                let d: Vec<f64> = (0..=n).map(|i| y[i] - yc[i]).collect();
+                (d.iter().map(|v| 2.0 * v).collect(), m.dot(&d, &d) - radius * radius)
+            }
+        };
+        let b = bordered(&lz, &row, m);
         let lu = lu_checked(&b, &format!("bordered continuation Jacobian at omega = {omega}"))?;
         let mut rhs: Vec<f64> = lz.r.iter().map(|v| -v).collect();
-        let dy: Vec<f64> = (0..=n).map(|i| y[i] - y_pred[i]).collect();
-        rhs.push(-m.dot(t, &dy));
+        rhs.push(-g);
         let step = lu_solve(&lu, &rhs);
-        for i in 0..=n {
-            y[i] += step[i];
+        // Backtracking: contact laws make the residual piecewise smooth, and a full Newton
+        // step can jump back and forth across a kink (a time sample opening or closing, a
+        // contact entering slip). Halve the step while it does not reduce the residual.
+        let mut alpha = 1.0;
+        loop {
+            let trial: Vec<f64> = (0..=n).map(|i| y[i] + alpha * step[i]).collect();
+            let tz = linearise_checked(system, plan, &trial, sopts, ws);
+            let accept = match &tz {
+                Ok(l) => norm2(&l.r) / l.f_ref < rel || alpha <= 1.0 / 16.0,
+                Err(_) => false,
+            };
+            if accept {
+                y = trial;
+                lz = tz?;
+                break;
+            }
+            if alpha <= 1.0 / 16.0 {
+                return Err(tz.err().unwrap_or_else(|| JpError::invalid("continuation", "corrector line search failed")));
+            }
+            alpha *= 0.5;
         }
         iterations += 1;
     }
+}
+
+/// [`linearise`] at `y = [z; omega]`, rejecting a non-positive frequency or a non-finite residual.
+fn linearise_checked(
+    system: &dyn HarmonicSystem,
+    plan: Option<&AftPlan>,
+    y: &[f64],
+    sopts: &SweepOptions,
+    ws: &mut ResidualWorkspace,
+) -> Result<Linearisation> {
+    let n = y.len() - 1;
+    let omega = y[n];
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
+    }
+    let lz = linearise(system, plan, &y[..n], omega, sopts, ws)?;
+    if !(norm2(&lz.r) / lz.f_ref).is_finite() {
+        return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
+    }
+    Ok(lz)
 }
 
 /// Norm of the harmonic (`h >= 1`) part of `z`, or of all of `z` if that vanishes, or 1.
@@ -265,7 +310,17 @@ pub fn sweep(
                 return Ok(finish(result, SweepEnd::StepTooSmall, Some(e)));
             }
             let y_pred: Vec<f64> = (0..=n).map(|i| y[i] + ds * t[i]).collect();
-            match correct(system, plan, &y_pred, &t, metric, sopts, hopts, &mut ws) {
+            let attempt = correct(system, plan, &y_pred, &t, metric, sopts, hopts, &mut ws, None).or_else(|e| {
+                // fallback: the sphere of radius ds around the current point, forward only
+                let c = correct(system, plan, &y_pred, &t, metric, sopts, hopts, &mut ws, Some((&y, ds))).map_err(|_| e.clone())?;
+                let d: Vec<f64> = (0..=n).map(|i| c.y[i] - y[i]).collect();
+                if metric.dot(&t, &d) > 0.0 {
+                    Ok(c)
+                } else {
+                    Err(e)
+                }
+            });
+            match attempt {
                 Ok(c) => break c,
                 Err(e) => {
                     last_error = Some(e);
