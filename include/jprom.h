@@ -7,7 +7,7 @@
  *    jprom_last_error_message() (or jprom_last_error_copy(), for Fortran) says why. The
  *    message describes the latest jprom call on the calling thread.
  *  - Results are returned through out-parameters, written only on success.
- *  - Handles (jprom_model, jprom_solution, jprom_sweep) are opaque. A function that creates
+ *  - Handles (jprom_model, jprom_solution, jprom_sweep_result) are opaque. A function that creates
  *    one takes `T **out`; the caller owns it and releases it with the matching *_free, which
  *    accepts NULL. Passing a freed pointer or a handle of the wrong kind returns
  *    JPROM_INVALID_HANDLE where detectable (best-effort: once the address is reused by a new
@@ -96,7 +96,7 @@ typedef struct jprom_model jprom_model;
 typedef struct jprom_solution jprom_solution;
 
 // The points of a sweep. Released with `jprom_sweep_free`.
-typedef struct jprom_sweep jprom_sweep;
+typedef struct jprom_sweep_result jprom_sweep_result;
 
 // Settings of one harmonic-balance solve. Fill with `jprom_hbm_options_default`, then change
 // fields. `struct_size` must stay `sizeof(jprom_hbm_options)` (lets the struct grow).
@@ -286,36 +286,36 @@ jprom_status jprom_sweep(const jprom_model *model,
                          const jprom_sweep_options *sweep_opts,
                          jprom_progress_fn callback,
                          void *user_data,
-                         jprom_sweep **out);
+                         jprom_sweep_result **out);
 
 // Releases a solution (NULL is a no-op).
 jprom_status jprom_solution_free(jprom_solution *solution);
 
 // Releases a sweep (NULL is a no-op).
-jprom_status jprom_sweep_free(jprom_sweep *sweep);
+jprom_status jprom_sweep_free(jprom_sweep_result *sweep);
 
 // Number of converged points in a sweep.
-jprom_status jprom_sweep_n_points(const jprom_sweep *sweep, size_t *out);
+jprom_status jprom_sweep_n_points(const jprom_sweep_result *sweep, size_t *out);
 
 // 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
-jprom_status jprom_sweep_reached_end(const jprom_sweep *sweep, int *out);
+jprom_status jprom_sweep_reached_end(const jprom_sweep_result *sweep, int *out);
 
 // Copies why the sweep ended early (empty if it did not) into `buf`, like
 // `jprom_last_error_copy`.
-jprom_status jprom_sweep_failure_copy(const jprom_sweep *sweep,
+jprom_status jprom_sweep_failure_copy(const jprom_sweep_result *sweep,
                                       char *buf,
                                       size_t len,
                                       size_t *written);
 
 // A point of a sweep as a new, independent `jprom_solution` (free it).
-jprom_status jprom_sweep_point(const jprom_sweep *sweep, size_t index, jprom_solution **out);
+jprom_status jprom_sweep_point(const jprom_sweep_result *sweep, size_t index, jprom_solution **out);
 
 // Angular frequency of point `index` of a sweep.
-jprom_status jprom_sweep_point_omega(const jprom_sweep *sweep, size_t index, double *out);
+jprom_status jprom_sweep_point_omega(const jprom_sweep_result *sweep, size_t index, double *out);
 
 // Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
 // `sqrt(c^2 + s^2)` for `h >= 1`).
-jprom_status jprom_sweep_point_amplitude(const jprom_sweep *sweep,
+jprom_status jprom_sweep_point_amplitude(const jprom_sweep_result *sweep,
                                          size_t index,
                                          size_t h,
                                          size_t j,
@@ -367,7 +367,7 @@ jprom_status jprom_solution_save_json(const jprom_solution *solution, const char
 jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 
 // Saves all points of a sweep as versioned JSON.
-jprom_status jprom_sweep_save_json(const jprom_sweep *sweep, const char *path);
+jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
 
 // The message of the last failed jprom call on this thread, NUL-terminated UTF-8; the empty
 // string if the last call succeeded. Never NULL. Owned by the library: valid until the next

@@ -1,5 +1,5 @@
 //! Full-order solves from C: options, `jprom_solve_point`, `jprom_sweep` with a progress
-//! callback, and the `jprom_solution` / `jprom_sweep` result handles with their accessors.
+//! callback, and the `jprom_solution` / `jprom_sweep_result` result handles with their accessors.
 
 use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
 use super::handle::{self, Handle};
@@ -64,7 +64,7 @@ pub struct jprom_solution {
 
 /// The points of a sweep. Released with `jprom_sweep_free`.
 #[allow(non_camel_case_types)]
-pub struct jprom_sweep {
+pub struct jprom_sweep_result {
     magic: u64,
     result: SweepResult,
 }
@@ -80,9 +80,9 @@ impl Handle for jprom_solution {
     }
 }
 
-impl Handle for jprom_sweep {
+impl Handle for jprom_sweep_result {
     const MAGIC: u64 = 0x4A50_524F_4D53_5750; // "JPROMSWP"
-    const KIND: &'static str = "jprom_sweep";
+    const KIND: &'static str = "jprom_sweep_result";
     fn magic_mut(&mut self) -> &mut u64 {
         &mut self.magic
     }
@@ -202,7 +202,7 @@ pub unsafe extern "C" fn jprom_sweep(
     sweep_opts: *const jprom_sweep_options,
     callback: jprom_progress_fn,
     user_data: *mut c_void,
-    out: *mut *mut jprom_sweep,
+    out: *mut *mut jprom_sweep_result,
 ) -> jprom_status {
     let mut cancelled = false;
     let status = ffi_guard!({
@@ -233,7 +233,7 @@ pub unsafe extern "C" fn jprom_sweep(
         };
         let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
         cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = handle::into_raw(jprom_sweep { magic: jprom_sweep::MAGIC, result });
+        *out = handle::into_raw(jprom_sweep_result { magic: jprom_sweep_result::MAGIC, result });
         Ok(())
     });
     if status == JPROM_OK && cancelled {
@@ -251,13 +251,13 @@ pub unsafe extern "C" fn jprom_solution_free(solution: *mut jprom_solution) -> j
 
 /// Releases a sweep (NULL is a no-op).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({ handle::free(sweep, "sweep") })
 }
 
 /// Number of converged points in a sweep.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep, out: *mut usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = handle::get(sweep, "sweep")?.result.points.len();
         Ok(())
@@ -266,7 +266,7 @@ pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep, out: *m
 
 /// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep, out: *mut c_int) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = (handle::get(sweep, "sweep")?.result.end == SweepEnd::ReachedEnd) as c_int;
         Ok(())
@@ -276,7 +276,7 @@ pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep, out:
 /// Copies why the sweep ended early (empty if it did not) into `buf`, like
 /// `jprom_last_error_copy`.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let text = s.result.failure.clone().unwrap_or_default();
@@ -297,7 +297,7 @@ pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep, buf
     })
 }
 
-unsafe fn sweep_point<'a>(sweep: *const jprom_sweep, index: usize) -> Result<&'a PointSolution, FfiError> {
+unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a PointSolution, FfiError> {
     let s = handle::get(sweep, "sweep")?;
     s.result
         .points
@@ -307,7 +307,7 @@ unsafe fn sweep_point<'a>(sweep: *const jprom_sweep, index: usize) -> Result<&'a
 
 /// A point of a sweep as a new, independent `jprom_solution` (free it).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
         let p = sweep_point(sweep, index)?.clone();
         *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p });
@@ -317,7 +317,7 @@ pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep, index: usi
 
 /// Angular frequency of point `index` of a sweep.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep, index: usize, out: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep_result, index: usize, out: *mut f64) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = sweep_point(sweep, index)?.omega;
         Ok(())
@@ -327,7 +327,7 @@ pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep, inde
 /// Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
 /// `sqrt(c^2 + s^2)` for `h >= 1`).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_result, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
     ffi_guard!({
         let p = sweep_point(sweep, index)?;
         *out_arg(out, "out")? = amplitude(p, h, j)?;
@@ -476,7 +476,7 @@ pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut
 
 /// Saves all points of a sweep as versioned JSON.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep, path: *const c_char) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         crate::io::save_json("sweep", &s.result, &path_arg(path, "path")?)?;
