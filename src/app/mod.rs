@@ -1,0 +1,2 @@
+//! The command-line application: study files, report files and plots.
+pub mod study;
