@@ -116,6 +116,33 @@ impl JpBasis {
         Ok(JpBasis { phi, sizes, singular_values: self.singular_values.clone(), ..self.clone() })
     }
 
+    /// The union of two bases (e.g. a basis and the one regenerated from a reduced solution,
+    /// method.md §7 last paragraph): per harmonic the columns of both are stacked (36) and
+    /// re-conditioned by SVD (37)-(38) with `gamma`. Both are orthonormal, so every singular
+    /// value of the stack lies in `[0, sqrt 2]` and `gamma` only drops directions the two
+    /// share up to `sqrt 2 / gamma`.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if the bases differ in model size or harmonics; as [`condition`].
+    pub fn union(&self, other: &JpBasis, gamma: f64) -> Result<Self> {
+        if self.n_dof != other.n_dof || self.n_w != other.n_w || self.phi.len() != other.phi.len() {
+            return Err(JpError::bad_size("bases to unite (rows x harmonics)", self.n_dof * self.phi.len(), other.n_dof * other.phi.len()));
+        }
+        let n = self.n_dof;
+        let raw: Vec<Mat<f64>> = self
+            .phi
+            .iter()
+            .zip(&other.phi)
+            .map(|(a, b)| {
+                let mut m = Mat::zeros(n, a.ncols() + b.ncols());
+                m.as_mut().submatrix_mut(0, 0, n, a.ncols()).copy_from(a);
+                m.as_mut().submatrix_mut(0, a.ncols(), n, b.ncols()).copy_from(b);
+                m
+            })
+            .collect();
+        Self::from_raw(&raw, gamma, self.n_patterns + other.n_patterns, self.n_w)
+    }
+
     /// Total number of reduced unknowns `n_0 + 2 sum_h n_h`.
     pub fn n_unknowns(&self) -> usize {
         self.sizes[0] + 2 * self.sizes[1..].iter().sum::<usize>()

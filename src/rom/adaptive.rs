@@ -1,8 +1,10 @@
 //! The self-correcting reduced sweep (method.md §7 last paragraph, §10): predict a basis from
 //! the stuck mode, sweep the reduced model, evaluate `e*_1` at every point; if its worst value
-//! exceeds the threshold, rebuild the basis with the resonant reduced solution's first harmonic
-//! (cos and sin parts) and static part as generating shape (39) and sweep again; if
-//! regeneration alone does not bring `e*_1` under the threshold, enlarge `gamma` as well.
+//! exceeds the threshold, predict a new set of JP modes with the reduced solution at the point
+//! of worst `e*_1` as generating shape (its static part and first harmonic, cos and sin parts,
+//! (39)), unite them with the current basis ([`JpBasis::union`]: stacked and re-conditioned by
+//! SVD) and sweep again; if a regeneration does not halve the worst `e*_1`, the next correction
+//! enlarges `gamma` instead (re-predicting along the last shape and uniting as well).
 
 use super::{FrRom, NlrRom, ReducedModel};
 use crate::aft::AftPlan;
@@ -47,9 +49,10 @@ impl Default for AdaptiveOptions {
 /// What a correction did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum CorrectionKind {
-    /// Basis rebuilt along the reduced solution at `from_omega` (the resonant point).
+    /// Modes predicted along the reduced solution at `from_omega` (the point of worst `e*_1`)
+    /// and united with the basis.
     Regenerated { from_omega: f64 },
-    /// Basis rebuilt along the same shape with a larger `gamma`.
+    /// Modes re-predicted along the last shape with a larger `gamma` and united with the basis.
     GammaIncreased { gamma: f64 },
 }
 
@@ -89,29 +92,29 @@ struct Pass {
     sweep: SweepResult,
     errors: Vec<Vec<f64>>,
     worst: f64,
-    resonance: usize,
+    /// Index of the point with the worst `e*_1`.
+    worst_at: usize,
 }
 
 fn run_pass(rom: &dyn ReducedModel, sopts: &SweepOptions, hopts: &HbmOptions, plan: &AftPlan) -> Result<Pass> {
     let sw = sweep(rom, sopts, hopts, &mut |_| ControlFlow::Continue(()))?;
     let mut errors = Vec::with_capacity(sw.points.len());
-    let mut worst = 0.0f64;
-    let mut resonance = 0;
-    let mut best_amp = -1.0;
+    let mut worst = -1.0f64;
+    let mut worst_at = 0;
     for (i, p) in sw.points.iter().enumerate() {
         let e = predicted_error(rom, plan, p.omega, &p.z)?;
-        worst = worst.max(e[1]);
-        let amp: f64 = (0..p.n_outputs).map(|j| p.output_amplitude(1, j).powi(2)).sum();
-        if amp > best_amp {
-            best_amp = amp;
-            resonance = i;
+        // A NaN e* counts as worst.
+        if !(e[1] <= worst) {
+            worst = if e[1].is_nan() { f64::INFINITY } else { e[1] };
+            worst_at = i;
         }
         errors.push(e);
     }
+    let worst = worst.max(0.0);
     if sw.points.is_empty() {
         return Err(JpError::NoConvergence { what: "reduced sweep (no point)".into(), iterations: 0, residual: f64::NAN });
     }
-    Ok(Pass { sweep: sw, errors, worst, resonance })
+    Ok(Pass { sweep: sw, errors, worst, worst_at })
 }
 
 /// Predicts a JP basis for `model`, sweeps the reduced model over `sopts`' band and corrects
@@ -148,7 +151,7 @@ pub fn adaptive_sweep(
     while pass.worst > aopts.threshold && corrections.len() < aopts.max_corrections {
         let before = pass.worst;
         let kind = if regenerate_next {
-            let p = &pass.sweep.points[pass.resonance];
+            let p = &pass.sweep.points[pass.worst_at];
             let q = rom.full_coefficients(p.omega, &p.z)?;
             popts.shape = GeneratingShape::Given { static_part: Some(q[0].clone()), cos: q[1].clone(), sin: q[2].clone() };
             popts.p_max = None;
@@ -157,7 +160,8 @@ pub fn adaptive_sweep(
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
-        let (b, r) = predict_basis(&coords, &popts)?;
+        let (fresh, r) = predict_basis(&coords, &popts)?;
+        let b = basis.union(&fresh, popts.gamma)?;
         let new_rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &b)?;
         let new_pass = run_pass(new_rom.as_ref(), sopts, hopts, &plan)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
