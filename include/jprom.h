@@ -7,7 +7,7 @@
  *    jprom_last_error_message() (or jprom_last_error_copy(), for Fortran) says why. The
  *    message describes the latest jprom call on the calling thread.
  *  - Results are returned through out-parameters, written only on success.
- *  - Handles (jprom_model, jprom_solution, jprom_sweep) are opaque. A function that creates
+ *  - Handles (jprom_model, jprom_solution, jprom_sweep_result) are opaque. A function that creates
  *    one takes `T **out`; the caller owns it and releases it with the matching *_free, which
  *    accepts NULL. Passing a freed pointer or a handle of the wrong kind returns
  *    JPROM_INVALID_HANDLE where detectable (best-effort: once the address is reused by a new
@@ -84,10 +84,61 @@ typedef enum {
   JPROM_PARSE = 11,
 } jprom_status;
 
+// Isotropic linear elastic material.
+typedef struct Material Material;
+
 // Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
 // Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
 // `jprom_model_clone`; owned by the caller, released with `jprom_model_free`.
 typedef struct jprom_model jprom_model;
+
+// One converged frequency point. Released with `jprom_solution_free`.
+typedef struct jprom_solution jprom_solution;
+
+// The points of a sweep. Released with `jprom_sweep_free`.
+typedef struct jprom_sweep_result jprom_sweep_result;
+
+// Settings of one harmonic-balance solve. Fill with `jprom_hbm_options_default`, then change
+// fields. `struct_size` must stay `sizeof(jprom_hbm_options)` (lets the struct grow).
+typedef struct {
+  size_t struct_size;
+  // Highest harmonic H (default 1); the static term is always included.
+  size_t harmonics;
+  // AFT samples per period; 0 (default) = 64 for H <= 3, more above.
+  size_t nt;
+  // Relative residual tolerance (default 1e-10).
+  double residual_tolerance;
+  // Newton iterations per point (default 50).
+  size_t max_iterations;
+  // 1 (default): solve on the contact DoFs after condensing the linear ones (method.md §5);
+  // 0: solve on all DoFs.
+  int condensed;
+} jprom_hbm_options;
+
+// Settings of a frequency sweep by pseudo-arclength continuation (rad/s). Fill with
+// `jprom_sweep_options_default`.
+typedef struct {
+  size_t struct_size;
+  double omega_start;
+  double omega_end;
+  // Arclength steps (scaled; defaults 0.02, 1e-6, 0.05).
+  double initial_step;
+  double min_step;
+  double max_step;
+  // Most points (default 2000).
+  size_t max_points;
+} jprom_sweep_options;
+
+// Progress callback of `jprom_sweep`: called on the calling thread after each converged
+// point with its index, angular frequency and the first-harmonic amplitude at each output
+// DoF (`n_outputs` values, valid during the call). Return 0 to go on, nonzero to stop.
+typedef int (*jprom_progress_fn)(void *user_data,
+                                 size_t point_index,
+                                 double omega,
+                                 const double *amplitudes,
+                                 size_t n_outputs);
+
+
 
 #ifdef __cplusplus
 extern "C" {
@@ -208,6 +259,115 @@ jprom_status jprom_model_save_json(const jprom_model *model, const char *path);
 // Loads and validates a model saved by `jprom_model_save_json`. `*out` as for
 // `jprom_model_new`.
 jprom_status jprom_model_load_json(const char *path, jprom_model **out);
+
+// Writes the defaults into `*out`.
+jprom_status jprom_hbm_options_default(jprom_hbm_options *out);
+
+// Writes the defaults into `*out` (band 0..0: set `omega_start` and `omega_end`).
+jprom_status jprom_sweep_options_default(jprom_sweep_options *out);
+
+// Solves one frequency point `omega` (rad/s) from a zero initial guess.
+// `JPROM_NO_CONVERGENCE` if Newton fails (no solution is returned then).
+jprom_status jprom_solve_point(const jprom_model *model,
+                               double omega,
+                               const jprom_hbm_options *options,
+                               jprom_solution **out);
+
+// Sweeps `[omega_start, omega_end]` by pseudo-arclength continuation.
+//
+// `callback` may be NULL. If it returns nonzero the sweep stops: the call returns
+// `JPROM_CANCELLED` AND still writes `*out` with the points computed so far (free it).
+// If continuation fails before the end of the band, the call returns `JPROM_OK` with the
+// points found; `jprom_sweep_reached_end` tells whether the band was covered, and
+// `jprom_sweep_failure_copy` why not. If not even the first point converges, the status is
+// that error and `*out` is not written.
+jprom_status jprom_sweep(const jprom_model *model,
+                         const jprom_hbm_options *options,
+                         const jprom_sweep_options *sweep_opts,
+                         jprom_progress_fn callback,
+                         void *user_data,
+                         jprom_sweep_result **out);
+
+// Releases a solution (NULL is a no-op).
+jprom_status jprom_solution_free(jprom_solution *solution);
+
+// Releases a sweep (NULL is a no-op).
+jprom_status jprom_sweep_free(jprom_sweep_result *sweep);
+
+// Number of converged points in a sweep.
+jprom_status jprom_sweep_n_points(const jprom_sweep_result *sweep, size_t *out);
+
+// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
+jprom_status jprom_sweep_reached_end(const jprom_sweep_result *sweep, int *out);
+
+// Copies why the sweep ended early (empty if it did not) into `buf`, like
+// `jprom_last_error_copy`.
+jprom_status jprom_sweep_failure_copy(const jprom_sweep_result *sweep,
+                                      char *buf,
+                                      size_t len,
+                                      size_t *written);
+
+// A point of a sweep as a new, independent `jprom_solution` (free it).
+jprom_status jprom_sweep_point(const jprom_sweep_result *sweep, size_t index, jprom_solution **out);
+
+// Angular frequency of point `index` of a sweep.
+jprom_status jprom_sweep_point_omega(const jprom_sweep_result *sweep, size_t index, double *out);
+
+// Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
+// `sqrt(c^2 + s^2)` for `h >= 1`).
+jprom_status jprom_sweep_point_amplitude(const jprom_sweep_result *sweep,
+                                         size_t index,
+                                         size_t h,
+                                         size_t j,
+                                         double *out);
+
+// Angular frequency of a solution.
+jprom_status jprom_solution_omega(const jprom_solution *solution, double *out);
+
+// Harmonics `H` and output count of a solution (either pointer may be NULL).
+jprom_status jprom_solution_sizes(const jprom_solution *solution,
+                                  size_t *harmonics,
+                                  size_t *n_outputs,
+                                  size_t *n_contacts);
+
+// Copies the output-DoF coefficients (`(2H + 1) * n_outputs` values, entry `k * n_outputs + j`)
+// into `buf` of capacity `len`.
+jprom_status jprom_solution_output_coeffs(const jprom_solution *solution, double *buf, size_t len);
+
+// Amplitude of harmonic `h` at output `j`.
+jprom_status jprom_solution_amplitude(const jprom_solution *solution,
+                                      size_t h,
+                                      size_t j,
+                                      double *out);
+
+// Newton iterations and final relative residual (either pointer may be NULL).
+jprom_status jprom_solution_convergence(const jprom_solution *solution,
+                                        size_t *iterations,
+                                        double *residual);
+
+// Energy dissipated per cycle by each contact (`n_contacts` values) into `buf` of capacity `len`.
+jprom_status jprom_solution_dissipated_energy(const jprom_solution *solution,
+                                              double *buf,
+                                              size_t len);
+
+// Number of AFT time samples per contact in the solution's state record.
+jprom_status jprom_solution_n_samples(const jprom_solution *solution, size_t *out);
+
+// Contact states (0 stick, 1 slip, 2 separated) of contact `contact` at each time sample,
+// into `buf` of capacity `len` (`jprom_solution_n_samples` values).
+jprom_status jprom_solution_contact_states(const jprom_solution *solution,
+                                           size_t contact,
+                                           uint8_t *buf,
+                                           size_t len);
+
+// Saves a solution as versioned JSON.
+jprom_status jprom_solution_save_json(const jprom_solution *solution, const char *path);
+
+// Loads a solution saved by `jprom_solution_save_json`.
+jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
+
+// Saves all points of a sweep as versioned JSON.
+jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
 
 // The message of the last failed jprom call on this thread, NUL-terminated UTF-8; the empty
 // string if the last call succeeded. Never NULL. Owned by the library: valid until the next

@@ -34,5 +34,6 @@ pub mod jp;
 pub mod rom;
 pub mod error_metric;
 pub mod ffi;
+pub mod app;
 
 pub use error::{JpError, Result};

@@ -12,8 +12,7 @@ fn root() -> PathBuf {
 fn generate() -> String {
     let config = cbindgen::Config::from_file(root().join("cbindgen.toml")).expect("read cbindgen.toml");
     let bindings = cbindgen::Builder::new()
-        // Only the C boundary is parsed, so public constants elsewhere never leak into the header.
-        .with_src(root().join("src/ffi/mod.rs"))
+        .with_crate(root())
         .with_config(config)
         .generate()
         .expect("cbindgen failed to generate the header");
@@ -71,4 +70,15 @@ fn version_macros_match_cargo_toml() {
     assert_eq!(define(&header, "JPROM_VERSION_PATCH"), parts[2], "JPROM_VERSION_PATCH vs Cargo.toml {version}");
     let lib = unsafe { std::ffi::CStr::from_ptr(jprom::ffi::jprom_version()) }.to_str().unwrap();
     assert_eq!(lib, version, "jprom_version() vs Cargo.toml");
+}
+
+#[test]
+fn header_exports_only_prefixed_names() {
+    let header = std::fs::read_to_string(root().join("include/jprom.h")).unwrap();
+    for line in header.lines() {
+        if let Some(rest) = line.strip_prefix("#define ") {
+            let name = rest.split_whitespace().next().unwrap();
+            assert!(name.starts_with("JPROM_"), "unprefixed macro in the C API: {name} (add it to cbindgen.toml's exclude list)");
+        }
+    }
 }

@@ -15,16 +15,30 @@
 //! `F` is the element force (`T1, T2, N` for 3D), positive when it resists `w`; the force on
 //! the structure is `-F`. So `dF/dw` is the contact stiffness `K̂` of method.md §2.
 
+mod fourier;
+
+pub use fourier::{AftBackend, TABLES_MAX_H};
+
+use crate::contact::jenkins::Jenkins;
+use crate::contact::law::Friction3D;
 use crate::contact::{ContactLaw, ContactState};
-use crate::error::Result;
+use crate::error::{JpError, Result};
+use fourier::Fourier;
+use rustfft::num_complex::Complex;
 use serde::{Deserialize, Serialize};
+
+/// Maximum number of passes over the period when looking for the periodic stick/slip state.
+pub const MAX_PASSES: usize = 5;
+/// Relative tolerance on the tangential state at the start of the period (method.md §4).
+pub const PERIODIC_TOLERANCE: f64 = 1e-12;
 
 /// What one contact did over one steady-state period.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactCycle {
     /// State at each of the `Nt` time samples (the "boundary condition" of §6).
     pub states: Vec<ContactState>,
-    /// Energy dissipated by friction per cycle, `W = closed integral of T . du`.
+    /// Energy dissipated by friction per cycle, `W = closed integral of T . du`
+    /// (trapezoidal rule over the samples, so a fully stuck cycle gives `W = 0` exactly).
     pub dissipated_energy: f64,
 }
 
@@ -33,16 +47,61 @@ pub struct ContactCycle {
 pub struct AftPlan {
     harmonics: usize,
     nt: usize,
+    fourier: Fourier,
 }
 
 /// Per-thread scratch memory of the AFT, so that the contact loop does not allocate.
-pub struct AftWorkspace {}
+#[derive(Clone, Debug, Default)]
+pub struct AftWorkspace {
+    /// `(H, Nt)` the buffers are sized for.
+    key: (usize, usize),
+    /// Samples `u1 | u2 | v` (or `u` for Jenkins), `3 Nt`.
+    x: Vec<f64>,
+    /// Tangential force samples `T1 | T2`, `2 Nt`.
+    tangential: Vec<f64>,
+    /// Normal force samples and `dN/dv` per sample.
+    normal: Vec<f64>,
+    d_normal: Vec<f64>,
+    states: Vec<ContactState>,
+    /// `dT(t_j)/dw` per sample: `g[j * 2n + r * n + col]`.
+    g: Vec<f64>,
+    /// Derivative of the start state of the current pass, and a temporary, `2n` each.
+    g_start: Vec<f64>,
+    g_tmp: Vec<f64>,
+    /// Accumulators of the table DFT of the Jacobian: `2 nc n` tangential, `nc^2` normal.
+    acc: Vec<f64>,
+    buf: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
+    /// Gathered local coefficients of one contact (used by [`evaluate_contacts`]).
+    w_local: Vec<f64>,
+}
 
 impl AftPlan {
-    /// Plans for `H = harmonics >= 1` and `nt` samples (a power of two, `>= 4 (H + 1)`).
+    /// Plans for `H = harmonics >= 1` and `nt` samples (a power of two, `>= 4 (H + 1)`),
+    /// with [`AftBackend::Auto`].
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] if `H = 0` or `nt` is not a power of two `>= 4 (H + 1)`.
     pub fn new(harmonics: usize, nt: usize) -> Result<Self> {
-        let _ = (harmonics, nt);
-        todo!("aft: AftPlan::new")
+        Self::with_backend(harmonics, nt, AftBackend::Auto)
+    }
+
+    /// As [`AftPlan::new`], with an explicit transform backend.
+    ///
+    /// # Errors
+    /// As [`AftPlan::new`].
+    pub fn with_backend(harmonics: usize, nt: usize, backend: AftBackend) -> Result<Self> {
+        if harmonics == 0 {
+            return Err(JpError::invalid("aft.harmonics", "must be >= 1"));
+        }
+        let min_nt = 4 * (harmonics + 1);
+        if !nt.is_power_of_two() || nt < min_nt {
+            return Err(JpError::invalid(
+                "aft.nt",
+                format!("must be a power of two >= 4 (H + 1) = {min_nt}, got {nt}"),
+            ));
+        }
+        Ok(AftPlan { harmonics, nt, fourier: Fourier::new(harmonics, nt, backend) })
     }
     /// `H`.
     pub fn harmonics(&self) -> usize {
@@ -56,13 +115,43 @@ impl AftPlan {
     pub fn n_coeffs(&self) -> usize {
         2 * self.harmonics + 1
     }
+    /// Whether the transforms go through rustfft (`true`) or the cos/sin tables.
+    pub fn uses_fft(&self) -> bool {
+        self.fourier.use_fft
+    }
     /// Scratch for contacts of dimension up to 3.
     pub fn workspace(&self) -> AftWorkspace {
-        todo!("aft: workspace")
+        let (nt, nc) = (self.nt, self.n_coeffs());
+        let n = 3 * nc;
+        AftWorkspace {
+            key: (self.harmonics, nt),
+            x: vec![0.0; 3 * nt],
+            tangential: vec![0.0; 2 * nt],
+            normal: vec![0.0; nt],
+            d_normal: vec![0.0; nt],
+            states: vec![ContactState::Stick; nt],
+            g: vec![0.0; nt * 2 * n],
+            g_start: vec![0.0; 2 * n],
+            g_tmp: vec![0.0; 2 * n],
+            acc: vec![0.0; 2 * nc * n + nc * nc],
+            buf: vec![Complex::new(0.0, 0.0); nt],
+            scratch: vec![Complex::new(0.0, 0.0); self.fourier.scratch_len.max(1)],
+            w_local: vec![0.0; n],
+        }
     }
 
     /// Harmonics of the force of one contact for the local displacement harmonics `w`,
     /// with optionally its analytical Jacobian and its cycle report. Layouts in the module doc.
+    ///
+    /// The time loop runs over the period from the start state `T = Kt u(t_{-1})` projected
+    /// on the friction cone, then repeats from each pass's end state until the start state
+    /// repeats ([`PERIODIC_TOLERANCE`], at most [`MAX_PASSES`] passes); forces, states and
+    /// derivatives come from the last pass, whose start-state derivative is carried through
+    /// the earlier passes, so `jac` is the exact derivative of the returned force.
+    ///
+    /// # Panics
+    /// If `w` or `force` are not of length `n = dim (2H + 1)`, `jac` not of length `n^2`,
+    /// or `ws` was made by a plan with another `(H, Nt)` (programming errors).
     pub fn contact(
         &self,
         law: &ContactLaw,
@@ -72,9 +161,360 @@ impl AftPlan {
         cycle: Option<&mut ContactCycle>,
         ws: &mut AftWorkspace,
     ) {
-        let _ = (law, w, force, jac, cycle, ws);
-        todo!("aft: contact")
+        let n = law.dim() * self.n_coeffs();
+        assert_eq!(ws.key, (self.harmonics, self.nt), "AftWorkspace made for another plan");
+        assert_eq!(w.len(), n, "w length");
+        assert_eq!(force.len(), n, "force length");
+        if let Some(j) = &jac {
+            assert_eq!(j.len(), n * n, "jac length");
+        }
+        match law {
+            ContactLaw::Friction3D { .. } => {
+                let p = Friction3D::from_law(law).expect("3D law");
+                self.contact_3d(&p, w, force, jac, cycle, ws)
+            }
+            ContactLaw::Jenkins { .. } => {
+                let p = Jenkins::from_law(law).expect("Jenkins law");
+                self.contact_jenkins(&p, w, force, jac, cycle, ws)
+            }
+        }
     }
+
+    fn contact_3d(
+        &self,
+        p: &Friction3D,
+        w: &[f64],
+        force: &mut [f64],
+        jac: Option<&mut [f64]>,
+        cycle: Option<&mut ContactCycle>,
+        ws: &mut AftWorkspace,
+    ) {
+        let f = &self.fourier;
+        let (nt, nc) = (self.nt, f.nc);
+        let n = 3 * nc;
+        let n2 = 2 * n;
+        let want_jac = jac.is_some();
+        let AftWorkspace { x, tangential, normal, d_normal, states, g, g_start, g_tmp, acc, buf, scratch, .. } = ws;
+        let (u1, rest) = x.split_at_mut(nt);
+        let (u2, v) = rest.split_at_mut(nt);
+        let v = &mut v[..nt];
+        f.synthesize(w, 3, 0, u1, Some((1, u2)), buf, scratch);
+        f.synthesize(w, 3, 2, v, None, buf, scratch);
+        for j in 0..nt {
+            let (nj, dj) = p.normal(v[j]);
+            normal[j] = nj;
+            d_normal[j] = dj;
+        }
+        let basis = &f.basis;
+        let kt = p.kt;
+
+        // First start state: Kt u(t_{-1}) on the cone, so that full stick is exactly linear.
+        let last = nt - 1;
+        let c0 = p.correct([kt[0] * u1[last], kt[1] * u2[last]], normal[last]);
+        let mut t_start = c0.force;
+        if want_jac {
+            let g_tmp = &mut g_tmp[..n2];
+            g_tmp.fill(0.0);
+            let bl = &basis[last * nc..(last + 1) * nc];
+            for k in 0..nc {
+                g_tmp[k * 3] = kt[0] * bl[k];
+                g_tmp[n + k * 3 + 1] = kt[1] * bl[k];
+            }
+            slip_map(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, g_tmp, &mut g_start[..n2], n);
+        }
+
+        for pass in 0..MAX_PASSES {
+            let mut t_prev = t_start;
+            let mut scale = norm2(t_start);
+            for j in 0..nt {
+                let jm = if j == 0 { nt - 1 } else { j - 1 };
+                let ts = p.predictor(t_prev, [u1[j] - u1[jm], u2[j] - u2[jm]]);
+                let c = p.correct(ts, normal[j]);
+                tangential[j] = c.force[0];
+                tangential[nt + j] = c.force[1];
+                states[j] = c.state;
+                t_prev = c.force;
+                scale = scale.max(norm2(c.force));
+                if want_jac {
+                    // dT_j/dw from dT_{j-1}/dw (chain rule through the sample, §3).
+                    let (before, after) = g.split_at_mut(j * n2);
+                    let prev: &[f64] = if j == 0 { &g_start[..n2] } else { &before[(j - 1) * n2..] };
+                    let out = &mut after[..n2];
+                    let bj = &basis[j * nc..(j + 1) * nc];
+                    let bm = &basis[jm * nc..(jm + 1) * nc];
+                    match c.state {
+                        ContactState::Separated => out.fill(0.0),
+                        ContactState::Stick => {
+                            out.copy_from_slice(prev);
+                            for k in 0..nc {
+                                let db = bj[k] - bm[k];
+                                out[k * 3] += kt[0] * db;
+                                out[n + k * 3 + 1] += kt[1] * db;
+                            }
+                        }
+                        ContactState::Slip => {
+                            let y = &mut g_tmp[..n2];
+                            y.copy_from_slice(prev);
+                            for k in 0..nc {
+                                let db = bj[k] - bm[k];
+                                y[k * 3] += kt[0] * db;
+                                y[n + k * 3 + 1] += kt[1] * db;
+                            }
+                            slip_map(&c.d_predictor, &c.d_normal, d_normal[j], bj, y, out, n);
+                        }
+                    }
+                }
+            }
+            let diff = norm2([t_prev[0] - t_start[0], t_prev[1] - t_start[1]]);
+            if diff <= PERIODIC_TOLERANCE * scale || pass + 1 == MAX_PASSES {
+                break;
+            }
+            t_start = t_prev;
+            if want_jac {
+                g_start[..n2].copy_from_slice(&g[(nt - 1) * n2..nt * n2]);
+            }
+        }
+
+        // Forward DFT of the forces.
+        let (t1, t2) = tangential.split_at(nt);
+        f.analyze(t1, Some(&t2[..nt]), force, 0, 1, 3, buf, scratch);
+        f.analyze(&normal[..nt], None, force, 2, 2, 3, buf, scratch);
+
+        if let Some(cy) = cycle {
+            cy.states.clear();
+            cy.states.extend_from_slice(&states[..nt]);
+            let mut wd = 0.0;
+            for j in 0..nt {
+                let jm = if j == 0 { nt - 1 } else { j - 1 };
+                wd += 0.5 * (t1[j] + t1[jm]) * (u1[j] - u1[jm]) + 0.5 * (t2[j] + t2[jm]) * (u2[j] - u2[jm]);
+            }
+            cy.dissipated_energy = wd;
+        }
+
+        if let Some(jac) = jac {
+            jac.fill(0.0);
+            if !f.use_fft {
+                // Tables: jac rows (k', r) = sum_j weight_k'(t_j) dF_r(t_j)/dw.
+                let (acc_t, acc_n) = acc.split_at_mut(2 * nc * n);
+                acc_t.fill(0.0);
+                let acc_n = &mut acc_n[..nc * nc];
+                acc_n.fill(0.0);
+                for j in 0..nt {
+                    if states[j] == ContactState::Separated {
+                        continue;
+                    }
+                    let fj = &f.weights[j * nc..(j + 1) * nc];
+                    let gj = &g[j * n2..(j + 1) * n2];
+                    for r in 0..2 {
+                        let gr = &gj[r * n..(r + 1) * n];
+                        for kk in 0..nc {
+                            let a = fj[kk];
+                            let row = &mut acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
+                            for (o, &gv) in row.iter_mut().zip(gr) {
+                                *o += a * gv;
+                            }
+                        }
+                    }
+                    let dn = d_normal[j];
+                    if dn != 0.0 {
+                        let bj = &basis[j * nc..(j + 1) * nc];
+                        for kk in 0..nc {
+                            let a = fj[kk] * dn;
+                            let row = &mut acc_n[kk * nc..(kk + 1) * nc];
+                            for (o, &b) in row.iter_mut().zip(bj) {
+                                *o += a * b;
+                            }
+                        }
+                    }
+                }
+                for r in 0..2 {
+                    for kk in 0..nc {
+                        let row = &acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
+                        for (col, &val) in row.iter().enumerate() {
+                            jac[(kk * 3 + r) + col * n] = val;
+                        }
+                    }
+                }
+                for kk in 0..nc {
+                    for k in 0..nc {
+                        jac[(kk * 3 + 2) + (k * 3 + 2) * n] = acc_n[kk * nc + k];
+                    }
+                }
+            } else {
+                // FFT: two real columns per complex transform.
+                for r in 0..2 {
+                    let mut col = 0;
+                    while col < n {
+                        let c2 = col + 1;
+                        let b = &mut buf[..nt];
+                        for j in 0..nt {
+                            let base = j * n2 + r * n;
+                            let im = if c2 < n { g[base + c2] } else { 0.0 };
+                            b[j] = Complex::new(g[base + col], im);
+                        }
+                        f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
+                        if c2 < n {
+                            f.unpack_pair(b, jac, r + col * n, r + c2 * n, 3);
+                        } else {
+                            f.unpack_one(b, jac, r + col * n, 3);
+                        }
+                        col += 2;
+                    }
+                }
+                let mut k = 0;
+                while k < nc {
+                    let k2 = k + 1;
+                    let b = &mut buf[..nt];
+                    for j in 0..nt {
+                        let dn = d_normal[j];
+                        let im = if k2 < nc { dn * basis[j * nc + k2] } else { 0.0 };
+                        b[j] = Complex::new(dn * basis[j * nc + k], im);
+                    }
+                    f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
+                    if k2 < nc {
+                        f.unpack_pair(b, jac, 2 + (k * 3 + 2) * n, 2 + (k2 * 3 + 2) * n, 3);
+                    } else {
+                        f.unpack_one(b, jac, 2 + (k * 3 + 2) * n, 3);
+                    }
+                    k += 2;
+                }
+            }
+        }
+    }
+
+    fn contact_jenkins(
+        &self,
+        p: &Jenkins,
+        w: &[f64],
+        force: &mut [f64],
+        jac: Option<&mut [f64]>,
+        cycle: Option<&mut ContactCycle>,
+        ws: &mut AftWorkspace,
+    ) {
+        let f = &self.fourier;
+        let (nt, nc) = (self.nt, f.nc);
+        let n = nc;
+        let want_jac = jac.is_some();
+        let AftWorkspace { x, tangential, states, g, g_start, acc, buf, scratch, .. } = ws;
+        let u = &mut x[..nt];
+        f.synthesize(w, 1, 0, u, None, buf, scratch);
+        let basis = &f.basis;
+        let last = nt - 1;
+        let (t0, _, a0) = p.correct(p.kt * u[last]);
+        let mut t_start = t0;
+        if want_jac {
+            for k in 0..nc {
+                g_start[k] = a0 * p.kt * basis[last * nc + k];
+            }
+        }
+        for pass in 0..MAX_PASSES {
+            let mut t_prev = t_start;
+            let mut scale = t_start.abs();
+            for j in 0..nt {
+                let jm = if j == 0 { nt - 1 } else { j - 1 };
+                let (t, st, _) = p.correct(p.predictor(t_prev, u[j] - u[jm]));
+                tangential[j] = t;
+                states[j] = st;
+                t_prev = t;
+                scale = scale.max(t.abs());
+                if want_jac {
+                    let (before, after) = g.split_at_mut(j * n);
+                    let prev: &[f64] = if j == 0 { &g_start[..n] } else { &before[(j - 1) * n..] };
+                    let out = &mut after[..n];
+                    if st == ContactState::Stick {
+                        for k in 0..nc {
+                            out[k] = prev[k] + p.kt * (basis[j * nc + k] - basis[jm * nc + k]);
+                        }
+                    } else {
+                        out.fill(0.0);
+                    }
+                }
+            }
+            if (t_prev - t_start).abs() <= PERIODIC_TOLERANCE * scale || pass + 1 == MAX_PASSES {
+                break;
+            }
+            t_start = t_prev;
+            if want_jac {
+                g_start[..n].copy_from_slice(&g[(nt - 1) * n..nt * n]);
+            }
+        }
+        let t = &tangential[..nt];
+        f.analyze(t, None, force, 0, 0, 1, buf, scratch);
+        if let Some(cy) = cycle {
+            cy.states.clear();
+            cy.states.extend_from_slice(&states[..nt]);
+            let mut wd = 0.0;
+            for j in 0..nt {
+                let jm = if j == 0 { nt - 1 } else { j - 1 };
+                wd += 0.5 * (t[j] + t[jm]) * (u[j] - u[jm]);
+            }
+            cy.dissipated_energy = wd;
+        }
+        if let Some(jac) = jac {
+            if !f.use_fft {
+                let acc = &mut acc[..nc * n];
+                acc.fill(0.0);
+                for j in 0..nt {
+                    if states[j] != ContactState::Stick {
+                        continue; // slip: dT/dw = 0
+                    }
+                    let fj = &f.weights[j * nc..(j + 1) * nc];
+                    let gj = &g[j * n..(j + 1) * n];
+                    for kk in 0..nc {
+                        let a = fj[kk];
+                        for (o, &gv) in acc[kk * n..(kk + 1) * n].iter_mut().zip(gj) {
+                            *o += a * gv;
+                        }
+                    }
+                }
+                for kk in 0..nc {
+                    for col in 0..n {
+                        jac[kk + col * n] = acc[kk * n + col];
+                    }
+                }
+            } else {
+                let mut col = 0;
+                while col < n {
+                    let c2 = col + 1;
+                    let b = &mut buf[..nt];
+                    for j in 0..nt {
+                        let im = if c2 < n { g[j * n + c2] } else { 0.0 };
+                        b[j] = Complex::new(g[j * n + col], im);
+                    }
+                    f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
+                    if c2 < n {
+                        f.unpack_pair(b, jac, col * n, c2 * n, 1);
+                    } else {
+                        f.unpack_one(b, jac, col * n, 1);
+                    }
+                    col += 2;
+                }
+            }
+        }
+    }
+}
+
+/// `out = A y + dT/dN (dN/dv b_j)` on the `v` columns: the derivative through one corrector,
+/// `y = dT*/dw` (2 x n, row-major), `A = dT/dT*`.
+#[inline]
+fn slip_map(a: &[[f64; 2]; 2], dt_dn: &[f64; 2], dn_dv: f64, bj: &[f64], y: &[f64], out: &mut [f64], n: usize) {
+    let (y0, y1) = y.split_at(n);
+    let (o0, o1) = out.split_at_mut(n);
+    for c in 0..n {
+        o0[c] = a[0][0] * y0[c] + a[0][1] * y1[c];
+        o1[c] = a[1][0] * y0[c] + a[1][1] * y1[c];
+    }
+    if dn_dv != 0.0 && (dt_dn[0] != 0.0 || dt_dn[1] != 0.0) {
+        for (k, &b) in bj.iter().enumerate() {
+            o0[k * 3 + 2] += dt_dn[0] * dn_dv * b;
+            o1[k * 3 + 2] += dt_dn[1] * dn_dv * b;
+        }
+    }
+}
+
+#[inline]
+fn norm2(t: [f64; 2]) -> f64 {
+    (t[0] * t[0] + t[1] * t[1]).sqrt()
 }
 
 /// Forces, Jacobian blocks and cycle reports of all contacts of a system.
@@ -88,11 +528,34 @@ pub struct ContactForces {
     pub jac_offsets: Vec<usize>,
     /// One report per contact (filled when asked for).
     pub cycles: Vec<ContactCycle>,
+    /// Contact-major local forces (scratch, so that the parallel loop writes disjoint slices).
+    local_force: Vec<f64>,
+    /// One workspace per parallel chunk, kept across calls.
+    workspaces: Vec<AftWorkspace>,
 }
+
+/// Whether [`evaluate_contacts_with`] may run in parallel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Threading {
+    /// rayon over contacts when there are at least [`PARALLEL_MIN_CONTACTS`] contacts.
+    #[default]
+    Auto,
+    /// One thread.
+    Sequential,
+}
+
+/// Below this many contacts [`Threading::Auto`] stays sequential (one contact costs a few
+/// microseconds, less than distributing work over threads).
+pub const PARALLEL_MIN_CONTACTS: usize = 32;
 
 /// Evaluates every contact (in parallel over contacts) for the harmonic-major contact
 /// displacement `w_all` (length `(2H + 1) n_w`); `offsets[c]` is contact `c`'s first
 /// coordinate in `w`. Fills `out` (resized as needed, reused across calls).
+///
+/// # Panics
+/// If `laws` and `offsets` differ in length, `w_all` is not of length `(2H + 1) n_w`, or a
+/// contact's coordinates run past `n_w` (programming errors).
+#[allow(clippy::too_many_arguments)]
 pub fn evaluate_contacts(
     plan: &AftPlan,
     laws: &[ContactLaw],
@@ -103,6 +566,175 @@ pub fn evaluate_contacts(
     want_cycles: bool,
     out: &mut ContactForces,
 ) {
-    let _ = (plan, laws, offsets, n_w, w_all, want_jacobian, want_cycles, out);
-    todo!("aft: evaluate_contacts")
+    evaluate_contacts_with(plan, laws, offsets, n_w, w_all, want_jacobian, want_cycles, out, Threading::Auto)
+}
+
+/// [`evaluate_contacts`] with an explicit [`Threading`].
+///
+/// # Panics
+/// As [`evaluate_contacts`].
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_contacts_with(
+    plan: &AftPlan,
+    laws: &[ContactLaw],
+    offsets: &[usize],
+    n_w: usize,
+    w_all: &[f64],
+    want_jacobian: bool,
+    want_cycles: bool,
+    out: &mut ContactForces,
+    threading: Threading,
+) {
+    let nc = plan.n_coeffs();
+    assert_eq!(laws.len(), offsets.len(), "one offset per contact");
+    assert_eq!(w_all.len(), nc * n_w, "w_all length");
+    for (law, &off) in laws.iter().zip(offsets) {
+        assert!(off + law.dim() <= n_w, "contact coordinates past n_w");
+    }
+    // Sizes (no allocation when they are unchanged).
+    out.force.resize(nc * n_w, 0.0);
+    out.jac_offsets.clear();
+    let mut n_jac = 0;
+    let mut n_local = 0;
+    for law in laws {
+        out.jac_offsets.push(n_jac);
+        let n = law.dim() * nc;
+        n_jac += n * n;
+        n_local += n;
+    }
+    out.jac.resize(if want_jacobian { n_jac } else { 0 }, 0.0);
+    out.local_force.resize(n_local, 0.0);
+    if want_cycles {
+        out.cycles.resize_with(laws.len(), ContactCycle::default);
+    } else {
+        out.cycles.clear();
+    }
+    let leaves = match threading {
+        Threading::Sequential => 1,
+        Threading::Auto if laws.len() < PARALLEL_MIN_CONTACTS => 1,
+        Threading::Auto => (laws.len() / 16).clamp(1, 4 * rayon::current_num_threads()),
+    };
+    let key = (plan.harmonics, plan.nt);
+    if out.workspaces.len() < leaves || out.workspaces.iter().any(|w| w.key != key) {
+        out.workspaces = (0..leaves).map(|_| plan.workspace()).collect();
+    }
+    let task = Task {
+        plan,
+        laws,
+        offsets,
+        n_w,
+        w_all,
+        jac: if want_jacobian { Some(&mut out.jac[..]) } else { None },
+        local_force: &mut out.local_force[..],
+        cycles: if want_cycles { Some(&mut out.cycles[..]) } else { None },
+    };
+    task.run(&mut out.workspaces[..leaves]);
+    // Scatter the contact-major local forces to the harmonic-major layout.
+    let mut pos = 0;
+    for (law, &off) in laws.iter().zip(offsets) {
+        let d = law.dim();
+        for k in 0..nc {
+            for i in 0..d {
+                out.force[k * n_w + off + i] = out.local_force[pos + k * d + i];
+            }
+        }
+        pos += d * nc;
+    }
+}
+
+/// A contiguous range of contacts with their output slices.
+struct Task<'a> {
+    plan: &'a AftPlan,
+    laws: &'a [ContactLaw],
+    offsets: &'a [usize],
+    n_w: usize,
+    w_all: &'a [f64],
+    jac: Option<&'a mut [f64]>,
+    local_force: &'a mut [f64],
+    cycles: Option<&'a mut [ContactCycle]>,
+}
+
+impl<'a> Task<'a> {
+    /// Runs on `ws.len()` leaves: splits in two with `rayon::join` until one workspace is left.
+    fn run(self, ws: &mut [AftWorkspace]) {
+        if ws.len() <= 1 || self.laws.len() <= 1 {
+            self.run_sequential(&mut ws[0]);
+            return;
+        }
+        let half = ws.len() / 2;
+        let m = self.laws.len() * half / ws.len();
+        let (left, right) = self.split(m);
+        let (ws_l, ws_r) = ws.split_at_mut(half);
+        rayon::join(|| left.run(ws_l), || right.run(ws_r));
+    }
+
+    fn split(self, m: usize) -> (Task<'a>, Task<'a>) {
+        let nc = self.plan.n_coeffs();
+        let (mut n_jac, mut n_local) = (0, 0);
+        for law in &self.laws[..m] {
+            let n = law.dim() * nc;
+            n_jac += n * n;
+            n_local += n;
+        }
+        let (lf_l, lf_r) = self.local_force.split_at_mut(n_local);
+        let (jac_l, jac_r) = match self.jac {
+            Some(j) => {
+                let (a, b) = j.split_at_mut(n_jac);
+                (Some(a), Some(b))
+            }
+            None => (None, None),
+        };
+        let (cy_l, cy_r) = match self.cycles {
+            Some(c) => {
+                let (a, b) = c.split_at_mut(m);
+                (Some(a), Some(b))
+            }
+            None => (None, None),
+        };
+        (
+            Task {
+                plan: self.plan,
+                laws: &self.laws[..m],
+                offsets: &self.offsets[..m],
+                n_w: self.n_w,
+                w_all: self.w_all,
+                jac: jac_l,
+                local_force: lf_l,
+                cycles: cy_l,
+            },
+            Task {
+                plan: self.plan,
+                laws: &self.laws[m..],
+                offsets: &self.offsets[m..],
+                n_w: self.n_w,
+                w_all: self.w_all,
+                jac: jac_r,
+                local_force: lf_r,
+                cycles: cy_r,
+            },
+        )
+    }
+
+    fn run_sequential(self, ws: &mut AftWorkspace) {
+        let nc = self.plan.n_coeffs();
+        let mut w_local = std::mem::take(&mut ws.w_local);
+        let (mut pos_f, mut pos_j) = (0, 0);
+        let mut jac = self.jac;
+        let mut cycles = self.cycles;
+        for (c, (law, &off)) in self.laws.iter().zip(self.offsets).enumerate() {
+            let d = law.dim();
+            let n = d * nc;
+            for k in 0..nc {
+                for i in 0..d {
+                    w_local[k * d + i] = self.w_all[k * self.n_w + off + i];
+                }
+            }
+            let jac_c = jac.as_deref_mut().map(|j| &mut j[pos_j..pos_j + n * n]);
+            let cycle_c = cycles.as_deref_mut().map(|cy| &mut cy[c]);
+            self.plan.contact(law, &w_local[..n], &mut self.local_force[pos_f..pos_f + n], jac_c, cycle_c, ws);
+            pos_f += n;
+            pos_j += n * n;
+        }
+        ws.w_local = w_local;
+    }
 }

@@ -1,1 +1,280 @@
-//! (in progress)
+//! Condensation of the harmonic equations onto the contact coordinates (method.md §5,
+//! paper (12)-(15)).
+//!
+//! In the contact coordinates `z = [w; y]` of [`ContactCoordinates`] the contact forces act
+//! on `w` only (the "nonlinear" set `N`, the leading `n_w` coordinates); the remaining
+//! coordinates `L` are linear. Per harmonic, with complex `D_h = K - (h omega)^2 M + i h omega C`
+//! and force `f_h = f_hc - i f_hs`:
+//!
+//! ```text
+//! H_h = D_NN - D_NL D_LL^-1 D_LN                 (condensed dynamic stiffness)
+//! g_h = f_N  - D_NL D_LL^-1 f_L                  (condensed force)
+//! q_L = D_LL^-1 (f_L - D_LN q_N)                 (recovery, (13))
+//! ```
+//!
+//! and `D_0 = K` (real) for the static term. The condensed system is exact for the linear
+//! DoFs: its HBM solution equals the full-order one on `w`.
+
+use crate::contact::ContactLaw;
+use crate::error::{JpError, Result};
+use crate::hbm::full::check_omega;
+use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use crate::model::{ContactCoordinates, Model};
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::{c64, Mat};
+
+/// The condensed full-order system on the contact coordinates.
+#[derive(Clone, Debug)]
+pub struct CondensedSystem {
+    coords: ContactCoordinates,
+    layout: HarmonicLayout,
+    /// Static condensation, `omega`-independent: `H_0` and `g_0`.
+    h0: Mat<f64>,
+    g0: Vec<f64>,
+}
+
+/// Factorises a complex matrix and rejects a (numerically) singular one.
+fn lu_checked_c(a: &Mat<c64>, what: &str) -> Result<PartialPivLu<c64>> {
+    let lu = a.partial_piv_lu();
+    let u = lu.U();
+    let n = u.nrows();
+    let mut max_p = 0.0f64;
+    let mut min_p = f64::INFINITY;
+    for i in 0..n {
+        let p = u[(i, i)].norm();
+        if !p.is_finite() {
+            return Err(JpError::singular(format!("{what}: non-finite pivot {i}")));
+        }
+        max_p = max_p.max(p);
+        min_p = min_p.min(p);
+    }
+    if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
+        return Err(JpError::singular(format!(
+            "{what} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}"
+        )));
+    }
+    Ok(lu)
+}
+
+/// Complex `D_h` restricted to rows `r0..r0+nr`, columns `c0..c0+nc` of the z-coordinates.
+fn block(c: &ContactCoordinates, omega: f64, h: usize, r0: usize, nr: usize, c0: usize, nc: usize) -> Mat<c64> {
+    let hw = h as f64 * omega;
+    Mat::from_fn(nr, nc, |i, j| {
+        let (a, b) = (r0 + i, c0 + j);
+        c64::new(c.stiffness[(a, b)] - hw * hw * c.mass[(a, b)], hw * c.damping[(a, b)])
+    })
+}
+
+impl CondensedSystem {
+    /// Builds the condensed system for `opts.harmonics` harmonics and does the static
+    /// condensation (`h = 0`) once.
+    ///
+    /// # Errors
+    /// The model's validation errors; [`JpError::InvalidValue`] if the model has no contact
+    /// (nothing to condense onto) or bad options; [`JpError::SingularMatrix`] if `K_LL` is
+    /// singular (the structure is not held when its contact nodes are fixed).
+    pub fn new(model: &Model, opts: &HbmOptions) -> Result<Self> {
+        opts.validate()?;
+        if model.contacts.is_empty() {
+            return Err(JpError::invalid("CondensedSystem", "the model has no contact to condense onto"));
+        }
+        let coords = ContactCoordinates::new(model, opts.harmonics)?;
+        let (n, nw) = (coords.n_dof, coords.n_w);
+        let nl = n - nw;
+        let k = &coords.stiffness;
+        let (h0, g0) = if nl == 0 {
+            (k.clone(), coords.static_force.clone())
+        } else {
+            let kll = Mat::from_fn(nl, nl, |i, j| k[(nw + i, nw + j)]);
+            let lu = crate::hbm::solve::lu_checked(
+                &kll,
+                "K_LL (static block of the linear DoFs; is the structure held without its contacts?)",
+            )?;
+            let rhs = Mat::from_fn(nl, nw + 1, |i, j| {
+                if j < nw {
+                    k[(nw + i, j)]
+                } else {
+                    coords.static_force[nw + i]
+                }
+            });
+            let x = lu.solve(&rhs);
+            let h0 = Mat::from_fn(nw, nw, |i, j| k[(i, j)] - (0..nl).map(|l| k[(i, nw + l)] * x[(l, j)]).sum::<f64>());
+            let g0 = (0..nw)
+                .map(|i| coords.static_force[i] - (0..nl).map(|l| k[(i, nw + l)] * x[(l, nw)]).sum::<f64>())
+                .collect();
+            (h0, g0)
+        };
+        let layout = HarmonicLayout::uniform(opts.harmonics, nw);
+        Ok(CondensedSystem { coords, layout, h0, g0 })
+    }
+
+    /// The model in contact coordinates.
+    pub fn coordinates(&self) -> &ContactCoordinates {
+        &self.coords
+    }
+
+    /// Condensed dynamic stiffness `H_h(omega)` (real and imaginary parts, `n_w x n_w`) and
+    /// condensed force (cos and sin parts) of harmonic `h` (`h = 0`: `H_0`, `g_0`, zero
+    /// imaginary / sin parts).
+    ///
+    /// # Errors
+    /// [`JpError::SingularMatrix`] if `D_h,LL` is singular at this frequency;
+    /// [`JpError::InvalidValue`] for `omega <= 0` or `h > H`.
+    #[allow(clippy::type_complexity)]
+    pub fn condensed_harmonic(&self, omega: f64, h: usize) -> Result<(Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>)> {
+        check_omega(omega)?;
+        let nw = self.coords.n_w;
+        if h == 0 {
+            return Ok((self.h0.clone(), Mat::zeros(nw, nw), self.g0.clone(), vec![0.0; nw]));
+        }
+        if h > self.layout.harmonics {
+            return Err(JpError::invalid("harmonic", format!("{h} > H = {}", self.layout.harmonics)));
+        }
+        let c = &self.coords;
+        let nl = c.n_dof - nw;
+        let (fc, fs) = &c.harmonic_force[h - 1];
+        let d_nn = block(c, omega, h, 0, nw, 0, nw);
+        if nl == 0 {
+            let re = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].re);
+            let im = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].im);
+            return Ok((re, im, fc[..nw].to_vec(), fs[..nw].to_vec()));
+        }
+        let d_ll = block(c, omega, h, nw, nl, nw, nl);
+        let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+        let mut rhs = block(c, omega, h, nw, nl, 0, nw + 1);
+        for i in 0..nl {
+            rhs[(i, nw)] = c64::new(fc[nw + i], -fs[nw + i]);
+        }
+        let x = lu.solve(&rhs);
+        let d_nl = block(c, omega, h, 0, nw, nw, nl);
+        let prod = &d_nl * &x;
+        let re = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].re - prod[(i, j)].re);
+        let im = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].im - prod[(i, j)].im);
+        // g = f_N - D_NL D_LL^-1 f_L with f = f_c - i f_s: cos = Re g, sin = -Im g.
+        let gc = (0..nw).map(|i| fc[i] - prod[(i, nw)].re).collect();
+        let gs = (0..nw).map(|i| fs[i] + prod[(i, nw)].im).collect();
+        Ok((re, im, gc, gs))
+    }
+
+    /// Condensed dynamic stiffness `H_h(omega) = D_NN - D_NL D_LL^-1 D_LN` as (real,
+    /// imaginary) parts; for the JP NLR model (method.md §9).
+    ///
+    /// # Errors
+    /// As [`CondensedSystem::condensed_harmonic`].
+    pub fn condensed_dynamic_stiffness(&self, omega: f64, h: usize) -> Result<(Mat<f64>, Mat<f64>)> {
+        let (re, im, _, _) = self.condensed_harmonic(omega, h)?;
+        Ok((re, im))
+    }
+
+    /// Recovers all z-coordinates of one harmonic coefficient from the contact part,
+    /// `q_L = D_LL^-1 (f_L - D_LN q_N)` ((13)); `h = 0` uses `K`. `zc`, `zs` are the cos
+    /// and sin parts (`zs` ignored for `h = 0`). Returns the full (cos, sin) parts.
+    ///
+    /// # Errors
+    /// As [`CondensedSystem::condensed_harmonic`].
+    pub fn recover(&self, omega: f64, h: usize, zc: &[f64], zs: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+        let c = &self.coords;
+        let (n, nw) = (c.n_dof, c.n_w);
+        let nl = n - nw;
+        let mut full_c = zc.to_vec();
+        let mut full_s = zs.to_vec();
+        full_c.resize(n, 0.0);
+        full_s.resize(n, 0.0);
+        if nl == 0 {
+            return Ok((full_c, full_s));
+        }
+        if h == 0 {
+            let k = &c.stiffness;
+            let kll = Mat::from_fn(nl, nl, |i, j| k[(nw + i, nw + j)]);
+            let lu = crate::hbm::solve::lu_checked(&kll, "K_LL")?;
+            let rhs = Mat::from_fn(nl, 1, |i, _| {
+                c.static_force[nw + i] - (0..nw).map(|j| k[(nw + i, j)] * zc[j]).sum::<f64>()
+            });
+            let x = lu.solve(&rhs);
+            for i in 0..nl {
+                full_c[nw + i] = x[(i, 0)];
+            }
+            return Ok((full_c, full_s));
+        }
+        check_omega(omega)?;
+        let (fc, fs) = &c.harmonic_force[h - 1];
+        let d_ll = block(c, omega, h, nw, nl, nw, nl);
+        let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+        let d_ln = block(c, omega, h, nw, nl, 0, nw);
+        let rhs = Mat::from_fn(nl, 1, |i, _| {
+            let mut s = c64::new(fc[nw + i], -fs[nw + i]);
+            for j in 0..nw {
+                s -= d_ln[(i, j)] * c64::new(zc[j], -zs[j]);
+            }
+            s
+        });
+        let x = lu.solve(&rhs);
+        for i in 0..nl {
+            full_c[nw + i] = x[(i, 0)].re;
+            full_s[nw + i] = -x[(i, 0)].im;
+        }
+        Ok((full_c, full_s))
+    }
+}
+
+impl HarmonicSystem for CondensedSystem {
+    fn layout(&self) -> &HarmonicLayout {
+        &self.layout
+    }
+    fn contact_laws(&self) -> &[ContactLaw] {
+        &self.coords.laws
+    }
+    fn contact_offsets(&self) -> &[usize] {
+        &self.coords.offsets
+    }
+    fn n_contact_coords(&self) -> usize {
+        self.coords.n_w
+    }
+    fn contact_map(&self, _h: usize) -> ContactMap<'_> {
+        ContactMap::Leading
+    }
+    fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        check_omega(omega)?;
+        let mut lin = LinearPart {
+            d0: self.h0.clone(),
+            f0: self.g0.clone(),
+            dh_re: Vec::new(),
+            dh_im: Vec::new(),
+            fh_cos: Vec::new(),
+            fh_sin: Vec::new(),
+        };
+        for h in 1..=self.layout.harmonics {
+            let (re, im, gc, gs) = self.condensed_harmonic(omega, h)?;
+            lin.dh_re.push(re);
+            lin.dh_im.push(im);
+            lin.fh_cos.push(gc);
+            lin.fh_sin.push(gs);
+        }
+        Ok(lin)
+    }
+    fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+        if z.len() != self.layout.total() {
+            return Err(JpError::bad_size("HBM unknowns z", self.layout.total(), z.len()));
+        }
+        let nw = self.coords.n_w;
+        let n_out = self.coords.output_dofs.len();
+        let n_coeffs = 2 * self.layout.harmonics + 1;
+        let mut out = vec![0.0; n_coeffs * n_out];
+        if n_out == 0 {
+            return Ok(out);
+        }
+        let (full0, _) = self.recover(omega, 0, &z[..nw], &[])?;
+        out[..n_out].copy_from_slice(&self.coords.at_outputs(&full0));
+        for h in 1..=self.layout.harmonics {
+            let (oc, os) = (self.layout.cos_offset(h), self.layout.sin_offset(h));
+            let (fc, fs) = self.recover(omega, h, &z[oc..oc + nw], &z[os..os + nw])?;
+            let k = 2 * h - 1;
+            out[k * n_out..(k + 1) * n_out].copy_from_slice(&self.coords.at_outputs(&fc));
+            out[(k + 1) * n_out..(k + 2) * n_out].copy_from_slice(&self.coords.at_outputs(&fs));
+        }
+        Ok(out)
+    }
+    fn n_outputs(&self) -> usize {
+        self.coords.output_dofs.len()
+    }
+}

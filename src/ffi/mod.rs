@@ -14,9 +14,11 @@
 pub(crate) mod guard;
 pub(crate) mod handle;
 pub mod model;
+pub mod solve;
 pub mod status;
 
 pub use model::*;
+pub use solve::*;
 pub use status::*;
 
 /// Number of live handles of all kinds in the process (diagnostic, e.g. for leak checks in

@@ -14,8 +14,19 @@
 //! ```
 
 pub mod layout;
+pub mod options;
+pub mod residual;
+pub mod solution;
+pub mod solve;
+pub mod continuation;
+pub mod full;
 
+pub use continuation::sweep;
+pub use full::FullSystem;
 pub use layout::HarmonicLayout;
+pub use options::{default_nt, HbmOptions, SweepOptions};
+pub use solution::{PointSolution, SweepEnd, SweepResult};
+pub use solve::solve_point;
 
 use crate::contact::ContactLaw;
 use crate::error::Result;

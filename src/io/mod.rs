@@ -1,6 +1,9 @@
 //! File formats: versioned JSON for models, bases and solutions, Matrix Market for FE
 //! matrices, and the node/DoF map that places contacts on an imported model.
 
+pub mod dof_map;
+pub mod matrix_market;
+
 use crate::error::{JpError, Result};
 use serde::{de::DeserializeOwned, Deserialize, Serialize};
 use std::path::Path;

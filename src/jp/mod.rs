@@ -1,1 +1,169 @@
-//! (in progress)
+//! Jacobian Projection (method.md §6-8): JP modes from a set of contact boundary conditions
+//! ([`modes`]), prediction of the boundary conditions along a generating shape
+//! ([`prediction`]), SVD conditioning of the stacked modes ([`conditioning`]) and the resulting
+//! reduction basis ([`basis`]).
+//!
+//! Everything works in the contact coordinates `z = [w; y]` of
+//! [`crate::model::ContactCoordinates`]: the contact stiffness `K̂ = dF/dw` lives on the leading
+//! `n_w x n_w` block of every harmonic coefficient pair, which keeps the static condensation (28)
+//! and the condensed stiffness (30) cheap corrections of `K`.
+
+pub mod basis;
+pub mod conditioning;
+pub mod modes;
+pub mod prediction;
+
+pub use basis::{JpBasis, BasisOptions};
+pub use conditioning::{condition, ConditionedBasis};
+pub use modes::{jp_modes, JpModes, ModeOptions};
+pub use prediction::{predict_basis, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, Spacing};
+
+
+use crate::aft::ContactForces;
+use crate::contact::ContactLaw;
+use crate::error::{JpError, Result};
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+
+/// The boundary conditions of JP (§6): the contact stiffness `K̂ = dF/dw` of all contacts at one
+/// state, assembled densely over the contact coordinates in the harmonic-major layout of
+/// [`crate::aft`] (entry `(k n_w + i, l n_w + j)` is `dF_{k,i} / dw_{l,j}`), plus the part of
+/// the static contact force that is not `K̂_0 w` (see [`ContactJacobian::static_offset`]).
+#[derive(Clone, Debug)]
+pub struct ContactJacobian {
+    /// Highest harmonic `H`.
+    pub harmonics: usize,
+    /// Number of contact coordinates `n_w`.
+    pub n_w: usize,
+    /// `K̂`, `(2H + 1) n_w` square.
+    pub k_hat: Mat<f64>,
+    /// `g = F_0(w) - sum_l K̂_{0l} w_l` (length `n_w`): zero for laws that are positively
+    /// homogeneous in `w` (no preload), otherwise the preload's share of the static force. It
+    /// enters the static basis (35) so that the static solution is exactly representable.
+    pub static_offset: Vec<f64>,
+}
+
+impl ContactJacobian {
+    /// Fully stuck, closed contacts: `K̂ = diag(kt1, kt2, kn)` (or `kt`) on every coefficient,
+    /// no coupling between coefficients.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if `offsets` does not match `laws` and `n_w`.
+    pub fn stuck(laws: &[ContactLaw], offsets: &[usize], n_w: usize, harmonics: usize) -> Result<Self> {
+        check_offsets(laws, offsets, n_w)?;
+        let nc = 2 * harmonics + 1;
+        let mut k_hat = Mat::zeros(nc * n_w, nc * n_w);
+        for (law, &off) in laws.iter().zip(offsets) {
+            for (i, k) in law.stuck_stiffness().into_iter().enumerate() {
+                for c in 0..nc {
+                    k_hat[(c * n_w + off + i, c * n_w + off + i)] = k;
+                }
+            }
+        }
+        Ok(ContactJacobian { harmonics, n_w, k_hat, static_offset: vec![0.0; n_w] })
+    }
+
+    /// Assembles the dense `K̂` from the per-contact blocks of an AFT evaluation
+    /// ([`crate::aft::evaluate_contacts`] with `want_jacobian`) at the contact displacement
+    /// `w_all` (harmonic-major, length `(2H + 1) n_w`).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if the blocks, offsets or vectors do not match.
+    pub fn from_forces(
+        laws: &[ContactLaw],
+        offsets: &[usize],
+        n_w: usize,
+        harmonics: usize,
+        forces: &ContactForces,
+        w_all: &[f64],
+    ) -> Result<Self> {
+        check_offsets(laws, offsets, n_w)?;
+        let nc = 2 * harmonics + 1;
+        if w_all.len() != nc * n_w {
+            return Err(JpError::bad_size("contact displacement w", nc * n_w, w_all.len()));
+        }
+        if forces.force.len() != nc * n_w {
+            return Err(JpError::bad_size("contact forces", nc * n_w, forces.force.len()));
+        }
+        if forces.jac_offsets.len() != laws.len() {
+            return Err(JpError::bad_size("contact Jacobian blocks", laws.len(), forces.jac_offsets.len()));
+        }
+        let mut k_hat = Mat::zeros(nc * n_w, nc * n_w);
+        for (c, (law, &off)) in laws.iter().zip(offsets).enumerate() {
+            let d = law.dim();
+            let n = d * nc;
+            let start = forces.jac_offsets[c];
+            if start + n * n > forces.jac.len() {
+                return Err(JpError::bad_size(format!("Jacobian block of contact {c}"), start + n * n, forces.jac.len()));
+            }
+            let block = &forces.jac[start..start + n * n];
+            for col in 0..n {
+                let (l, j) = (col / d, col % d);
+                for row in 0..n {
+                    let (k, i) = (row / d, row % d);
+                    k_hat[(k * n_w + off + i, l * n_w + off + j)] = block[row + col * n];
+                }
+            }
+        }
+        let mut static_offset = forces.force[..n_w].to_vec();
+        let mut scale = crate::linalg::norm2(&static_offset);
+        for (i, g) in static_offset.iter_mut().enumerate() {
+            let mut kw = 0.0;
+            for (col, wv) in w_all.iter().enumerate() {
+                kw += k_hat[(i, col)] * wv;
+            }
+            *g -= kw;
+            scale += kw.abs();
+        }
+        // Round-off of a homogeneous law is not an offset.
+        if crate::linalg::norm2(&static_offset) <= 1e-10 * scale {
+            static_offset.iter_mut().for_each(|g| *g = 0.0);
+        }
+        Ok(ContactJacobian { harmonics, n_w, k_hat, static_offset })
+    }
+
+    /// The `n_w x n_w` block `K̂_{kl}` between coefficients `k` and `l`.
+    pub fn block(&self, k: usize, l: usize) -> faer::MatRef<'_, f64> {
+        let n = self.n_w;
+        self.k_hat.as_ref().submatrix(k * n, l * n, n, n)
+    }
+}
+
+fn check_offsets(laws: &[ContactLaw], offsets: &[usize], n_w: usize) -> Result<()> {
+    if laws.len() != offsets.len() {
+        return Err(JpError::bad_size("contact offsets", laws.len(), offsets.len()));
+    }
+    for (c, (law, &off)) in laws.iter().zip(offsets).enumerate() {
+        if off + law.dim() > n_w {
+            return Err(JpError::invalid("contact offsets", format!("contact {c} ends past n_w = {n_w}")));
+        }
+    }
+    Ok(())
+}
+
+/// Dense LU solve `A X = B` with a check that the factorisation is usable: the relative residual
+/// must be small, otherwise `A` is reported singular.
+pub(crate) fn lu_solve(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>> {
+    let lu = a.partial_piv_lu();
+    let x = lu.solve(b);
+    let finite = (0..x.ncols()).all(|j| (0..x.nrows()).all(|i| x[(i, j)].is_finite()));
+    if !finite {
+        return Err(JpError::singular(what));
+    }
+    let r = a * &x - b;
+    let scale = a.norm_l2() * x.norm_l2() + b.norm_l2();
+    if r.norm_l2() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
+        return Err(JpError::singular(what));
+    }
+    Ok(x)
+}
+
+/// Euclidean norm of column `j`.
+pub(crate) fn col_norm(m: &Mat<f64>, j: usize) -> f64 {
+    (0..m.nrows()).map(|i| m[(i, j)] * m[(i, j)]).sum::<f64>().sqrt()
+}
+
+/// Stacks column vectors into an `n x m` matrix (`m` may be 0).
+pub(crate) fn stack_columns(n: usize, cols: &[Vec<f64>]) -> Mat<f64> {
+    Mat::from_fn(n, cols.len(), |i, j| cols[j][i])
+}

@@ -1,0 +1,264 @@
+! Fortran 2008 interface to jprom's C API (include/jprom.h) through ISO_C_BINDING.
+!
+! Two layers:
+!  * jprom_c: raw bind(C) interfaces, one per C function used here. Handles are type(c_ptr),
+!    arrays are real(c_double), dimension(*) (column-major, as Fortran stores them), sizes and
+!    indices are integer(c_size_t) and 0-BASED, exactly as in C.
+!  * jprom (the module users `use`): thin Fortran-friendly wrappers. They return the status as
+!    a default integer (0 = JPROM_OK), copy the error message into a character(len=*) on
+!    failure, and take 1-BASED DoF / point / output indices, which they convert to 0-based.
+module jprom_c
+  use, intrinsic :: iso_c_binding
+  implicit none
+  integer(c_int), parameter :: JPROM_OK = 0
+
+  type, bind(C) :: jprom_hbm_options
+    integer(c_size_t) :: struct_size
+    integer(c_size_t) :: harmonics
+    integer(c_size_t) :: nt
+    real(c_double) :: residual_tolerance
+    integer(c_size_t) :: max_iterations
+    integer(c_int) :: condensed
+  end type
+
+  type, bind(C) :: jprom_sweep_options
+    integer(c_size_t) :: struct_size
+    real(c_double) :: omega_start, omega_end
+    real(c_double) :: initial_step, min_step, max_step
+    integer(c_size_t) :: max_points
+  end type
+
+  interface
+    integer(c_int) function jprom_model_new(n, mass, stiffness, out) bind(C, name="jprom_model_new")
+      import :: c_int, c_size_t, c_double, c_ptr
+      integer(c_size_t), value :: n
+      real(c_double), dimension(*), intent(in) :: mass, stiffness
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function jprom_model_free(model) bind(C, name="jprom_model_free")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function jprom_model_add_contact_3d(model, dofs_a, dofs_b, frame, kt1, kt2, kn, mu, n0) &
+        bind(C, name="jprom_model_add_contact_3d")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), dimension(*), intent(in) :: dofs_a
+      type(c_ptr), value :: dofs_b
+      real(c_double), dimension(*), intent(in) :: frame
+      real(c_double), value :: kt1, kt2, kn, mu, n0
+    end function
+    integer(c_int) function jprom_model_set_rayleigh_damping(model, alpha, beta) &
+        bind(C, name="jprom_model_set_rayleigh_damping")
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: model
+      real(c_double), value :: alpha, beta
+    end function
+    integer(c_int) function jprom_model_set_harmonic_force(model, h, cos_part, sin_part, n) &
+        bind(C, name="jprom_model_set_harmonic_force")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), value :: h, n
+      real(c_double), dimension(*), intent(in) :: cos_part, sin_part
+    end function
+    integer(c_int) function jprom_model_set_output_dofs(model, dofs, n) bind(C, name="jprom_model_set_output_dofs")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), dimension(*), intent(in) :: dofs
+      integer(c_size_t), value :: n
+    end function
+    integer(c_int) function jprom_hbm_options_default(out) bind(C, name="jprom_hbm_options_default")
+      import :: c_int, jprom_hbm_options
+      type(jprom_hbm_options), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_options_default(out) bind(C, name="jprom_sweep_options_default")
+      import :: c_int, jprom_sweep_options
+      type(jprom_sweep_options), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep(model, opts, sweep_opts, callback, user_data, out) bind(C, name="jprom_sweep")
+      import :: c_int, c_ptr, c_funptr, jprom_hbm_options, jprom_sweep_options
+      type(c_ptr), value :: model
+      type(jprom_hbm_options), intent(in) :: opts
+      type(jprom_sweep_options), intent(in) :: sweep_opts
+      type(c_funptr), value :: callback
+      type(c_ptr), value :: user_data
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_free(sweep) bind(C, name="jprom_sweep_free")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+    end function
+    integer(c_int) function jprom_sweep_n_points(sweep, out) bind(C, name="jprom_sweep_n_points")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_point_omega(sweep, i, out) bind(C, name="jprom_sweep_point_omega")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      real(c_double), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_point_amplitude(sweep, i, h, j, out) bind(C, name="jprom_sweep_point_amplitude")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, h, j
+      real(c_double), intent(out) :: out
+    end function
+    integer(c_int) function jprom_last_error_copy(buf, len, written) bind(C, name="jprom_last_error_copy")
+      import :: c_int, c_size_t, c_char
+      character(kind=c_char), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: written
+    end function
+  end interface
+end module jprom_c
+
+module jprom
+  use, intrinsic :: iso_c_binding
+  use jprom_c, only: jprom_hbm_options, jprom_sweep_options, JPROM_OK
+  implicit none
+  private
+  public :: jprom_hbm_options, jprom_sweep_options, JPROM_OK
+  public :: jp_model_new, jp_model_free, jp_add_ground_contact, jp_set_damping, jp_set_first_harmonic_force, &
+            jp_set_outputs, jp_default_options, jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_point, &
+            jp_last_error
+
+contains
+
+  !> The last error message of this thread, as a Fortran string.
+  subroutine jp_last_error(message)
+    use jprom_c, only: jprom_last_error_copy
+    character(len=*), intent(out) :: message
+    character(kind=c_char) :: buf(1024)
+    integer(c_size_t) :: written
+    integer :: i, n, s
+    s = jprom_last_error_copy(buf, int(size(buf), c_size_t), written)
+    message = ' '
+    n = int(min(written, int(size(buf) - 1, c_size_t)))
+    do i = 1, min(n, len(message))
+      message(i:i) = buf(i)
+    end do
+  end subroutine
+
+  integer function finish(status, message)
+    integer(c_int), intent(in) :: status
+    character(len=*), intent(out), optional :: message
+    finish = int(status)
+    if (present(message)) then
+      message = ' '
+      if (status /= JPROM_OK) call jp_last_error(message)
+    end if
+  end function
+
+  !> New model from n x n column-major mass and stiffness matrices.
+  integer function jp_model_new(mass, stiffness, model, message)
+    use jprom_c, only: jprom_model_new
+    real(c_double), intent(in) :: mass(:, :), stiffness(:, :)
+    type(c_ptr), intent(out) :: model
+    character(len=*), intent(out), optional :: message
+    jp_model_new = finish(jprom_model_new(int(size(mass, 1), c_size_t), mass, stiffness, model), message)
+  end function
+
+  integer function jp_model_free(model)
+    use jprom_c, only: jprom_model_free
+    type(c_ptr), intent(inout) :: model
+    jp_model_free = int(jprom_model_free(model))
+    model = c_null_ptr
+  end function
+
+  !> 3D friction contact of node `dofs` (three 1-based DoF numbers) against ground;
+  !> frame(3, 3): rows t1, t2, n (frame(i, :) is axis i).
+  integer function jp_add_ground_contact(model, dofs, frame, kt1, kt2, kn, mu, n0, message)
+    use jprom_c, only: jprom_model_add_contact_3d
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dofs(3)
+    real(c_double), intent(in) :: frame(3, 3), kt1, kt2, kn, mu, n0
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t) :: a(3)
+    real(c_double) :: rows(9)
+    a = int(dofs - 1, c_size_t)
+    rows = reshape(transpose(frame), [9])
+    jp_add_ground_contact = finish(jprom_model_add_contact_3d(model, a, c_null_ptr, rows, kt1, kt2, kn, mu, n0), message)
+  end function
+
+  integer function jp_set_damping(model, alpha, beta, message)
+    use jprom_c, only: jprom_model_set_rayleigh_damping
+    type(c_ptr), intent(in) :: model
+    real(c_double), intent(in) :: alpha, beta
+    character(len=*), intent(out), optional :: message
+    jp_set_damping = finish(jprom_model_set_rayleigh_damping(model, alpha, beta), message)
+  end function
+
+  integer function jp_set_first_harmonic_force(model, cos_part, sin_part, message)
+    use jprom_c, only: jprom_model_set_harmonic_force
+    type(c_ptr), intent(in) :: model
+    real(c_double), intent(in) :: cos_part(:), sin_part(:)
+    character(len=*), intent(out), optional :: message
+    jp_set_first_harmonic_force = finish(jprom_model_set_harmonic_force(model, 1_c_size_t, cos_part, sin_part, &
+        int(size(cos_part), c_size_t)), message)
+  end function
+
+  !> Output DoFs, 1-based.
+  integer function jp_set_outputs(model, dofs, message)
+    use jprom_c, only: jprom_model_set_output_dofs
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dofs(:)
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t) :: d(size(dofs))
+    d = int(dofs - 1, c_size_t)
+    jp_set_outputs = finish(jprom_model_set_output_dofs(model, d, int(size(dofs), c_size_t)), message)
+  end function
+
+  subroutine jp_default_options(opts, sweep_opts)
+    use jprom_c, only: jprom_hbm_options_default, jprom_sweep_options_default
+    type(jprom_hbm_options), intent(out) :: opts
+    type(jprom_sweep_options), intent(out) :: sweep_opts
+    integer(c_int) :: s
+    s = jprom_hbm_options_default(opts)
+    s = jprom_sweep_options_default(sweep_opts)
+  end subroutine
+
+  !> Frequency sweep (no progress callback from this layer).
+  integer function jp_sweep(model, opts, sweep_opts, sweep, message)
+    use jprom_c, only: jprom_sweep
+    type(c_ptr), intent(in) :: model
+    type(jprom_hbm_options), intent(in) :: opts
+    type(jprom_sweep_options), intent(in) :: sweep_opts
+    type(c_ptr), intent(out) :: sweep
+    character(len=*), intent(out), optional :: message
+    jp_sweep = finish(jprom_sweep(model, opts, sweep_opts, c_null_funptr, c_null_ptr, sweep), message)
+  end function
+
+  integer function jp_sweep_free(sweep)
+    use jprom_c, only: jprom_sweep_free
+    type(c_ptr), intent(inout) :: sweep
+    jp_sweep_free = int(jprom_sweep_free(sweep))
+    sweep = c_null_ptr
+  end function
+
+  integer function jp_sweep_n_points(sweep, n)
+    use jprom_c, only: jprom_sweep_n_points
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: n
+    integer(c_size_t) :: m
+    jp_sweep_n_points = int(jprom_sweep_n_points(sweep, m))
+    n = int(m)
+  end function
+
+  !> Point i (1-based): angular frequency and first-harmonic amplitude at each output (1..size(amps)).
+  integer function jp_sweep_point(sweep, i, omega, amps)
+    use jprom_c, only: jprom_sweep_point_omega, jprom_sweep_point_amplitude
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i
+    real(c_double), intent(out) :: omega, amps(:)
+    integer :: j
+    integer(c_int) :: s
+    s = jprom_sweep_point_omega(sweep, int(i - 1, c_size_t), omega)
+    do j = 1, size(amps)
+      if (s /= JPROM_OK) exit
+      s = jprom_sweep_point_amplitude(sweep, int(i - 1, c_size_t), 1_c_size_t, int(j - 1, c_size_t), amps(j))
+    end do
+    jp_sweep_point = int(s)
+  end function
+end module jprom

@@ -1,0 +1,401 @@
+//! Runs a [`Study`]: builds the model (built-in blade + Craig-Bampton), sweeps the band with
+//! the condensed full-order solver and the FR and NLR reduced models at each excitation level,
+//! evaluates the error predictor, and writes CSV, JSON and SVG results.
+
+use super::plots::{write_plot, PlotSpec, Series};
+use super::study::{ModelSpec, Study};
+use crate::aft::AftPlan;
+use crate::cms::{BladeParams, BuiltinBlade};
+use crate::condensation::CondensedSystem;
+use crate::contact::{ContactLaw, ContactState};
+use crate::error::{JpError, Result};
+use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
+use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
+use crate::jp::prediction::{predict_basis, PredictionOptions};
+use crate::model::{ContactCoordinates, Damping, Model};
+use crate::rom::{FrRom, NlrRom, ReducedModel};
+use faer::c64;
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::io::Write;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::Instant;
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// One solver at one excitation level.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverRow {
+    pub level: f64,
+    pub solver: String,
+    /// Unknowns per harmonic (`n_0, n_1, ...`).
+    pub sizes: Vec<usize>,
+    pub points: usize,
+    pub sweep_seconds: f64,
+    pub basis_seconds: f64,
+    /// Resonance (largest `X1` at the first output) frequency and amplitude.
+    pub peak_hz: f64,
+    pub peak_x1: f64,
+    pub peak_x0: f64,
+    /// Relative errors against the full order at the full-order resonance (ROMs only).
+    pub error_x1: Option<f64>,
+    pub error_x0: Option<f64>,
+    /// Predicted `e*_1` and actual `e_1` there (ROMs only).
+    pub predicted_e1: Option<f64>,
+    pub actual_e1: Option<f64>,
+    /// Largest relative error of the dissipated energy per contact node there (ROMs only).
+    pub energy_error: Option<f64>,
+}
+
+/// What a study produced.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    pub model_dofs: usize,
+    pub contacts: usize,
+    pub stuck_resonance_hz: f64,
+    /// `alpha_ST = |f_E^0| / |f_E^1|` at which the stuck resonance just reaches the friction
+    /// limit (see [`stuck_limit_scale`]).
+    pub alpha_st: f64,
+    pub build_seconds: f64,
+    pub rows: Vec<SolverRow>,
+}
+
+fn progress(len: u64, what: &str, show: bool) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(len), if show { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
+    bar.set_style(ProgressStyle::with_template("{msg:28} [{bar:30}] {pos}/{len} {elapsed}").unwrap().progress_chars("=> "));
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Builds the study's model.
+///
+/// # Errors
+/// The blade builder's and Craig-Bampton's errors; [`JpError::InvalidValue`] for a Matrix
+/// Market model (the runner takes the built-in blade only, see the README).
+pub fn build_model(study: &Study) -> Result<Model> {
+    match &study.model {
+        ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
+            let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
+            let fe = BuiltinBlade::build(&params)?;
+            let cb = fe.reduce(*cb_modes)?;
+            let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+            cb.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
+        }
+        ModelSpec::MatrixMarket { .. } => Err(JpError::invalid(
+            "model.kind",
+            "matrix_market studies are not run by this version of the CLI: build the model with the library (io::matrix_market, cms::CraigBampton) and call hbm/rom directly",
+        )),
+    }
+}
+
+/// The dynamic scale at which the linear stuck response at the stuck resonance `omega_st`
+/// just reaches the friction limit at the first contact: every contact `c` satisfies
+/// `|T0_c| + s |T1_c| <= mu N0_c` and `s kn |v1_c| <= N0_c`, with `T0`, `N0` from the static
+/// solution and `T1`, `v1` the first-harmonic amplitudes per unit scale.
+pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<f64> {
+    let n = coords.n_dof;
+    let mut kst = coords.stiffness.clone();
+    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
+        for (i, k) in law.stuck_stiffness().into_iter().enumerate() {
+            kst[(off + i, off + i)] += k;
+        }
+    }
+    let w2 = omega_st * omega_st;
+    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], omega_st * coords.damping[(i, j)]));
+    let (fc, fs) = &coords.harmonic_force[0];
+    let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
+    let q = d.partial_piv_lu().solve(&rhs);
+    let mut scale = f64::INFINITY;
+    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
+        if let ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } = *law {
+            let n_static = n0 + kn * static_z[off + 2];
+            let t0 = (kt1 * static_z[off]).hypot(kt2 * static_z[off + 1]);
+            let t1 = (kt1 * q[(off, 0)].norm()).hypot(kt2 * q[(off + 1, 0)].norm());
+            let v1 = kn * q[(off + 2, 0)].norm();
+            if t1 > 0.0 {
+                scale = scale.min((mu * n_static - t0).max(0.0) / t1);
+            }
+            if v1 > 0.0 {
+                scale = scale.min(n_static.max(0.0) / v1);
+            }
+        }
+    }
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(JpError::invalid("excitation", format!("no finite stuck limit (scale {scale}): check the static load and contacts")));
+    }
+    Ok(scale)
+}
+
+fn peak(points: &[PointSolution]) -> Option<&PointSolution> {
+    points.iter().max_by(|a, b| a.output_amplitude(1, 0).total_cmp(&b.output_amplitude(1, 0)))
+}
+
+fn state_counts(p: &PointSolution) -> [usize; 3] {
+    let mut c = [0usize; 3];
+    for cy in &p.contact_cycles {
+        for s in &cy.states {
+            c[match s {
+                ContactState::Stick => 0,
+                ContactState::Slip => 1,
+                ContactState::Separated => 2,
+            }] += 1;
+        }
+    }
+    c
+}
+
+fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Result<()> {
+    let io = |e: std::io::Error| JpError::Io { path: path.display().to_string(), reason: e.to_string() };
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+    let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
+    let mut header = String::from("freq_hz,X0,X1");
+    for j in 1..n_out {
+        header.push_str(&format!(",X1_out{j}"));
+    }
+    header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy");
+    writeln!(f, "{header}").map_err(io)?;
+    for (i, p) in res.points.iter().enumerate() {
+        let mut line = format!("{:.6},{:.9e},{:.9e}", p.omega / TWO_PI, p.output_coeff(0, 0), p.output_amplitude(1, 0));
+        for j in 1..n_out {
+            line.push_str(&format!(",{:.9e}", p.output_amplitude(1, j)));
+        }
+        let (e0, e1) = match errors.and_then(|e| e.get(i)) {
+            Some(e) => (format!("{:.4e}", e[0]), format!("{:.4e}", e.get(1).copied().unwrap_or(f64::NAN))),
+            None => (String::new(), String::new()),
+        };
+        let c = state_counts(p);
+        line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy()));
+        writeln!(f, "{line}").map_err(io)?;
+    }
+    Ok(())
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// Runs the study and writes its results into `out_dir`; `show_progress` draws progress bars
+/// on stderr.
+///
+/// # Errors
+/// Model building, solver and I/O errors.
+pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<RunSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
+    let h = study.hbm.harmonics;
+    let hopts = HbmOptions { nt: Some(study.hbm.nt), ..HbmOptions::with_harmonics(h) };
+    let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
+    let t = Instant::now();
+    let mut model = build_model(study)?;
+    let coords = ContactCoordinates::new(&model, h)?;
+    let mut popts = PredictionOptions::new(band);
+    popts.harmonics = h;
+    popts.nt = Some(study.hbm.nt);
+    popts.gamma = study.basis.gamma;
+    popts.n_samples = study.basis.samples;
+    let omega_st = crate::jp::prediction::stuck_mode(&coords, band)?.0;
+    let plan = AftPlan::new(h, study.hbm.nt)?;
+    let static_z = crate::jp::prediction::static_solution(&coords, &plan)?;
+    let s_st = stuck_limit_scale(&coords, &static_z, omega_st)?;
+    model.excitation.dynamic_scale = s_st;
+    let alpha_st = model.excitation.level();
+    let build_seconds = t.elapsed().as_secs_f64();
+    let mut rows = Vec::new();
+    // max_step so that a straight sweep takes about `points` steps
+    let sopts = SweepOptions { max_step: 1.0 / study.band.points as f64, initial_step: 0.5 / study.band.points as f64, ..SweepOptions::band(band.0, band.1) };
+    let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
+
+    for &level in &study.forcing.levels {
+        model.excitation.dynamic_scale = s_st / level;
+        let tag = format!("alpha_ST_x{level:e}");
+        let mut series = Vec::new();
+        let mut energies = Vec::new();
+        let condensed = CondensedSystem::new(&model, &hopts)?;
+        // full order
+        let mut fo_peak: Option<PointSolution> = None;
+        if study.solvers.full_order {
+            let bar = progress(study.band.points as u64, &format!("FO sweep, level {level:e}"), show_progress);
+            let t = Instant::now();
+            let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
+                bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
+                ControlFlow::Continue(())
+            })?;
+            bar.finish_and_clear();
+            let secs = t.elapsed().as_secs_f64();
+            write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
+            let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
+            series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+            rows.push(SolverRow {
+                level,
+                solver: "FO (condensed)".into(),
+                sizes: condensed.layout().sizes.clone(),
+                points: res.points.len(),
+                sweep_seconds: secs,
+                basis_seconds: 0.0,
+                peak_hz: p.omega / TWO_PI,
+                peak_x1: p.output_amplitude(1, 0),
+                peak_x0: p.output_coeff(0, 0),
+                error_x1: None,
+                error_x0: None,
+                predicted_e1: None,
+                actual_e1: None,
+                energy_error: None,
+            });
+            fo_peak = Some(p);
+        }
+        if !(study.solvers.fr || study.solvers.nlr) {
+            frf_series.push((level, series));
+            energy_series.push((level, energies));
+            continue;
+        }
+        let t = Instant::now();
+        let bar = progress(1, &format!("JP basis, level {level:e}"), show_progress);
+        let (basis, _report) = predict_basis(&coords, &popts)?;
+        bar.finish_and_clear();
+        let basis_seconds = t.elapsed().as_secs_f64();
+        let mut roms: Vec<(&str, Box<dyn ReducedModel>)> = Vec::new();
+        if study.solvers.fr {
+            roms.push(("FR", Box::new(FrRom::new(&coords, &basis)?)));
+        }
+        if study.solvers.nlr {
+            roms.push(("NLR", Box::new(NlrRom::new(&condensed, &basis)?)));
+        }
+        for (name, rom) in &roms {
+            let bar = progress(study.band.points as u64, &format!("{name} sweep, level {level:e}"), show_progress);
+            let t = Instant::now();
+            let res = sweep(rom.as_ref(), &sopts, &hopts, &mut |p| {
+                bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
+                ControlFlow::Continue(())
+            })?;
+            bar.finish_and_clear();
+            let secs = t.elapsed().as_secs_f64();
+            let errors: Vec<Vec<f64>> = res.points.iter().map(|p| predicted_error(rom.as_ref(), &plan, p.omega, &p.z)).collect::<Result<_>>()?;
+            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), &res, Some(&errors))?;
+            series.push(Series::line(*name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
+            let mut row = SolverRow {
+                level,
+                solver: name.to_string(),
+                sizes: basis.sizes.clone(),
+                points: res.points.len(),
+                sweep_seconds: secs,
+                basis_seconds,
+                peak_hz: p.omega / TWO_PI,
+                peak_x1: p.output_amplitude(1, 0),
+                peak_x0: p.output_coeff(0, 0),
+                error_x1: None,
+                error_x0: None,
+                predicted_e1: None,
+                actual_e1: None,
+                energy_error: None,
+            };
+            if let Some(fo) = &fo_peak {
+                // the ROM at the full-order resonance frequency, from its nearest sweep point
+                let guess = res.points.iter().min_by(|a, b| (a.omega - fo.omega).abs().total_cmp(&(b.omega - fo.omega).abs())).map(|q| q.z.clone());
+                let r = solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &hopts)?;
+                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
+                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+                let e_star = predicted_error(rom.as_ref(), &plan, r.omega, &r.z)?;
+                let e = actual_error(rom.as_ref(), &plan, r.omega, &r.z, fo)?;
+                row.predicted_e1 = e_star.get(1).copied();
+                row.actual_e1 = e.get(1).copied();
+                let cycles = reduced_contact_cycles(rom.as_ref(), &plan, r.omega, &r.z)?;
+                let total: f64 = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
+                row.energy_error = Some(
+                    cycles
+                        .iter()
+                        .zip(&fo.contact_cycles)
+                        .map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs() / total.max(f64::MIN_POSITIVE))
+                        .fold(0.0, f64::max),
+                );
+                energies.push(Series::markers(*name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+                if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
+                    let label = format!("{name}");
+                    match err_points.iter_mut().find(|(l, _)| *l == label) {
+                        Some((_, v)) => v.push((a, ps)),
+                        None => err_points.push((label, vec![(a, ps)])),
+                    }
+                }
+            }
+            rows.push(row);
+        }
+        frf_series.push((level, series));
+        energy_series.push((level, energies));
+    }
+
+    let summary = RunSummary {
+        model_dofs: model.n_dof(),
+        contacts: model.contacts.len(),
+        stuck_resonance_hz: omega_st / TWO_PI,
+        alpha_st,
+        build_seconds,
+        rows,
+    };
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| JpError::Io { path: "summary.json".into(), reason: e.to_string() })?;
+    std::fs::write(out_dir.join("summary.json"), json).map_err(|e| JpError::Io { path: out_dir.join("summary.json").display().to_string(), reason: e.to_string() })?;
+    if study.output.plots {
+        for (level, series) in &frf_series {
+            let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
+            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: true, diagonal: false };
+            write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        }
+        for (level, series) in &energy_series {
+            let title = format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}");
+            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: true, diagonal: false };
+            write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        }
+        if !err_points.is_empty() {
+            let series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
+            let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true };
+            write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
+            let mut by_solver: Vec<Series> = Vec::new();
+            for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
+                let p = (r.level, r.error_x1.unwrap().max(1e-16));
+                match by_solver.iter_mut().find(|s| s.label == r.solver) {
+                    Some(s) => s.points.push(p),
+                    None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
+                }
+            }
+            let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false };
+            write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
+        }
+    }
+    Ok(summary)
+}
+
+/// The summary as a fixed-width text table.
+pub fn summary_table(s: &RunSummary) -> String {
+    let mut out = format!(
+        "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, alpha_ST = {:.4e}, built in {:.1} s\n",
+        s.model_dofs, s.contacts, s.stuck_resonance_hz, s.alpha_st, s.build_seconds
+    );
+    out.push_str(&format!(
+        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+        "a/a_ST", "solver", "n_h", "points", "sweep s", "basis s", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W"
+    ));
+    let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
+    for r in &s.rows {
+        out.push_str(&format!(
+            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            r.level,
+            r.solver,
+            format!("{:?}", r.sizes),
+            r.points,
+            r.sweep_seconds,
+            r.basis_seconds,
+            r.peak_hz,
+            r.peak_x1,
+            opt(r.error_x1),
+            opt(r.error_x0),
+            opt(r.predicted_e1),
+            opt(r.actual_e1),
+            opt(r.energy_error)
+        ));
+    }
+    out
+}

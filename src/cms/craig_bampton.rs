@@ -1,0 +1,295 @@
+//! Sparse Craig-Bampton reduction (fixed-interface component mode synthesis).
+//!
+//! DoFs split into boundary (kept) `b` and interior `i`. With the constraint modes
+//! `Psi = -K_ii^-1 K_ib` and the lowest mass-normalised fixed-interface modes `Phi`
+//! (`K_ii Phi = M_ii Phi diag(lambda)`), physical DoFs are
+//!
+//! ```text
+//! x_b = q_b,      x_i = Psi q_b + Phi p,      x = T [q_b; p]
+//! ```
+//!
+//! and the reduced matrices `T^T K T`, `T^T M T` are dense of size `n_b + n_modes`:
+//! `K_red = [K_bb + K_bi Psi, 0; 0, diag(lambda)]`,
+//! `M_red = [M_bb + M_bi Psi + Psi^T (M_ib + M_ii Psi), (.)^T; Phi^T (M_ib + M_ii Psi), Phi^T M_ii Phi]`.
+//! `K_ii` is factorised once (sparse Cholesky); `Psi` is one multi-right-hand-side solve; the
+//! modes come from [`super::eigen::lowest_modes`]. Only `n_i x n_b` and `n_i x n_modes`
+//! dense blocks are ever formed, never an `n x n` one.
+
+use super::eigen::{lowest_modes, SparseCholesky};
+use super::{sparse_dense_block, sparse_submatrix, SparseMat};
+use crate::error::{JpError, Result};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
+
+/// Options of the Craig-Bampton reduction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CbOptions {
+    /// Number of fixed-interface (interior) modes kept.
+    pub n_modes: usize,
+    /// Keep the constraint modes `Psi` (`n_i x n_b`) for recovering physical DoFs. Without them
+    /// [`CraigBampton::recover`] and [`CraigBampton::reduce_force`] are unavailable, which
+    /// halves peak memory for models with thousands of boundary DoFs.
+    pub keep_recovery: bool,
+}
+
+impl Default for CbOptions {
+    fn default() -> Self {
+        CbOptions { n_modes: 50, keep_recovery: true }
+    }
+}
+
+/// A Craig-Bampton reduced model of sparse `K`, `M`: reduced coordinates are the boundary DoFs
+/// (in the order given) followed by the modal coordinates.
+#[derive(Clone, Debug)]
+pub struct CraigBampton {
+    /// Size of the full model.
+    pub n_full: usize,
+    /// Full-model DoFs kept, in reduced order (reduced index `k` <-> `boundary_dofs[k]`).
+    pub boundary_dofs: Vec<usize>,
+    /// Full-model interior DoFs, ascending (row `r` of `Psi`, `Phi` <-> `interior_dofs[r]`).
+    pub interior_dofs: Vec<usize>,
+    /// Reduced stiffness `T^T K T` (dense, symmetric, `n_b + n_modes`).
+    pub stiffness: Mat<f64>,
+    /// Reduced mass `T^T M T` (dense, symmetric, `n_b + n_modes`).
+    pub mass: Mat<f64>,
+    /// Fixed-interface eigenvalues `lambda = omega^2`, ascending.
+    pub modal_eigenvalues: Vec<f64>,
+    /// Fixed-interface modes `Phi` (`n_i x n_modes`, mass-normalised).
+    pub fixed_interface_modes: Mat<f64>,
+    /// Constraint modes `Psi = -K_ii^-1 K_ib` (`n_i x n_b`), if kept.
+    pub constraint_modes: Option<Mat<f64>>,
+}
+
+const BLOCK: usize = 256;
+
+impl CraigBampton {
+    /// Reduces sparse symmetric `K`, `M` (full storage) onto `boundary` DoFs plus
+    /// `options.n_modes` fixed-interface modes.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] for mismatched matrices, [`JpError::InvalidValue`] for repeated or
+    /// out-of-range boundary DoFs, [`JpError::SingularMatrix`] if `K_ii` is not positive
+    /// definite (the structure must be held by the boundary or by its own supports),
+    /// [`JpError::Eigen`] if the modes do not converge.
+    pub fn reduce(k: &SparseMat, m: &SparseMat, boundary: &[usize], options: CbOptions) -> Result<Self> {
+        let n = k.nrows();
+        if k.ncols() != n {
+            return Err(JpError::bad_size("stiffness (columns)", n, k.ncols()));
+        }
+        if m.nrows() != n || m.ncols() != n {
+            return Err(JpError::bad_size("mass (rows)", n, m.nrows()));
+        }
+        let mut b_map = vec![usize::MAX; n];
+        for (r, &d) in boundary.iter().enumerate() {
+            if d >= n {
+                return Err(JpError::invalid("boundary DoFs", format!("DoF {d} >= model size {n}")));
+            }
+            if b_map[d] != usize::MAX {
+                return Err(JpError::invalid("boundary DoFs", format!("DoF {d} listed twice")));
+            }
+            b_map[d] = r;
+        }
+        let interior: Vec<usize> = (0..n).filter(|&d| b_map[d] == usize::MAX).collect();
+        let mut i_map = vec![usize::MAX; n];
+        for (r, &d) in interior.iter().enumerate() {
+            i_map[d] = r;
+        }
+        let (nb, ni) = (boundary.len(), interior.len());
+        if ni == 0 {
+            return Err(JpError::invalid("boundary DoFs", "no interior DoF left to reduce"));
+        }
+        let n_modes = options.n_modes.min(ni);
+
+        let k_ii = sparse_submatrix(k, &i_map, ni, &interior);
+        let m_ii = sparse_submatrix(m, &i_map, ni, &interior);
+        let k_ib = sparse_submatrix(k, &i_map, ni, boundary);
+        let m_ib = sparse_submatrix(m, &i_map, ni, boundary);
+        let k_bb = sparse_dense_block(k, &b_map, nb, boundary);
+        let m_bb = sparse_dense_block(m, &b_map, nb, boundary);
+
+        let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
+
+        // Constraint modes: one multi-right-hand-side solve.
+        let mut psi = sparse_dense_block(&k_ib, &identity_map(ni), ni, &(0..nb).collect::<Vec<_>>());
+        chol.solve_in_place(psi.as_mut());
+        psi *= faer::Scale(-1.0);
+
+        let modes = lowest_modes(&chol, &m_ii, n_modes)?;
+        drop(chol);
+        let phi = modes.vectors;
+
+        let nr = nb + n_modes;
+        let par = Par::rayon(0);
+        // K_red
+        let mut k_red = Mat::<f64>::zeros(nr, nr);
+        {
+            let mut kbb = k_red.as_mut().submatrix_mut(0, 0, nb, nb);
+            kbb.copy_from(&k_bb);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(
+                kbb,
+                Accum::Add,
+                k_ib.as_ref().transpose(),
+                psi.as_ref(),
+                1.0,
+                par,
+            );
+            for (r, &lam) in modes.eigenvalues.iter().enumerate() {
+                k_red[(nb + r, nb + r)] = lam;
+            }
+        }
+        // M_red, boundary columns in blocks: X_B = M_ib[:, B] + M_ii Psi[:, B].
+        let mut m_red = Mat::<f64>::zeros(nr, nr);
+        m_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&m_bb);
+        faer::sparse::linalg::matmul::sparse_dense_matmul(
+            m_red.as_mut().submatrix_mut(0, 0, nb, nb),
+            Accum::Add,
+            m_ib.as_ref().transpose(),
+            psi.as_ref(),
+            1.0,
+            par,
+        );
+        let all_i = identity_map(ni);
+        let mut start = 0;
+        while start < nb {
+            let w = BLOCK.min(nb - start);
+            let cols: Vec<usize> = (start..start + w).collect();
+            let mut x = sparse_dense_block(&m_ib, &all_i, ni, &cols);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(
+                x.as_mut(),
+                Accum::Add,
+                m_ii.as_ref(),
+                psi.as_ref().subcols(start, w),
+                1.0,
+                par,
+            );
+            matmul(
+                m_red.as_mut().submatrix_mut(0, start, nb, w),
+                Accum::Add,
+                psi.as_ref().transpose(),
+                x.as_ref(),
+                1.0,
+                par,
+            );
+            matmul(
+                m_red.as_mut().submatrix_mut(nb, start, n_modes, w),
+                Accum::Replace,
+                phi.as_ref().transpose(),
+                x.as_ref(),
+                1.0,
+                par,
+            );
+            start += w;
+        }
+        {
+            let mut mphi = Mat::<f64>::zeros(ni, n_modes);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(mphi.as_mut(), Accum::Replace, m_ii.as_ref(), phi.as_ref(), 1.0, par);
+            matmul(
+                m_red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes),
+                Accum::Replace,
+                phi.as_ref().transpose(),
+                mphi.as_ref(),
+                1.0,
+                par,
+            );
+        }
+        // Mode-boundary blocks: copy the lower block up, then symmetrise everything.
+        for j in 0..nr {
+            for i in 0..j {
+                let (a, b) = (k_red[(i, j)], k_red[(j, i)]);
+                let s = 0.5 * (a + b);
+                k_red[(i, j)] = s;
+                k_red[(j, i)] = s;
+            }
+        }
+        for j in nb..nr {
+            for i in 0..nb {
+                m_red[(i, j)] = m_red[(j, i)];
+            }
+        }
+        for j in 0..nr {
+            for i in 0..j {
+                let s = 0.5 * (m_red[(i, j)] + m_red[(j, i)]);
+                m_red[(i, j)] = s;
+                m_red[(j, i)] = s;
+            }
+        }
+        Ok(CraigBampton {
+            n_full: n,
+            boundary_dofs: boundary.to_vec(),
+            interior_dofs: interior,
+            stiffness: k_red,
+            mass: m_red,
+            modal_eigenvalues: modes.eigenvalues,
+            fixed_interface_modes: phi,
+            constraint_modes: if options.keep_recovery { Some(psi) } else { None },
+        })
+    }
+
+    /// Number of reduced coordinates `n_b + n_modes`.
+    pub fn n_reduced(&self) -> usize {
+        self.boundary_dofs.len() + self.modal_eigenvalues.len()
+    }
+
+    /// Fixed-interface natural frequencies in Hz.
+    pub fn modal_frequencies_hz(&self) -> Vec<f64> {
+        self.modal_eigenvalues.iter().map(|l| l.sqrt() / (2.0 * std::f64::consts::PI)).collect()
+    }
+
+    /// Reduced force `T^T f` of a full-size force `f`.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if `f` is not full size; [`JpError::InvalidValue`] if the
+    /// constraint modes were not kept and `f` loads interior DoFs.
+    pub fn reduce_force(&self, f: &[f64]) -> Result<Vec<f64>> {
+        if f.len() != self.n_full {
+            return Err(JpError::bad_size("full force", self.n_full, f.len()));
+        }
+        let nb = self.boundary_dofs.len();
+        let mut out: Vec<f64> = self.boundary_dofs.iter().map(|&d| f[d]).collect();
+        let fi = Mat::from_fn(self.interior_dofs.len(), 1, |r, _| f[self.interior_dofs[r]]);
+        let loaded = fi.col(0).iter().any(|v| *v != 0.0);
+        if loaded {
+            let psi = self.constraint_modes.as_ref().ok_or_else(|| {
+                JpError::invalid("reduce_force", "interior DoFs are loaded but constraint modes were not kept")
+            })?;
+            let pb = psi.transpose() * &fi;
+            for r in 0..nb {
+                out[r] += pb[(r, 0)];
+            }
+        }
+        let pm = self.fixed_interface_modes.transpose() * &fi;
+        out.extend((0..self.modal_eigenvalues.len()).map(|r| pm[(r, 0)]));
+        Ok(out)
+    }
+
+    /// Physical (full-size) displacement `x = T q` of reduced coordinates `q`.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] for a wrong length, [`JpError::InvalidValue`] if the constraint
+    /// modes were not kept.
+    pub fn recover(&self, q: &[f64]) -> Result<Vec<f64>> {
+        let nb = self.boundary_dofs.len();
+        if q.len() != self.n_reduced() {
+            return Err(JpError::bad_size("reduced coordinates", self.n_reduced(), q.len()));
+        }
+        let psi = self
+            .constraint_modes
+            .as_ref()
+            .ok_or_else(|| JpError::invalid("recover", "constraint modes were not kept"))?;
+        let qb = Mat::from_fn(nb, 1, |r, _| q[r]);
+        let p = Mat::from_fn(self.modal_eigenvalues.len(), 1, |r, _| q[nb + r]);
+        let xi = psi * &qb + &self.fixed_interface_modes * &p;
+        let mut x = vec![0.0; self.n_full];
+        for (r, &d) in self.boundary_dofs.iter().enumerate() {
+            x[d] = q[r];
+        }
+        for (r, &d) in self.interior_dofs.iter().enumerate() {
+            x[d] = xi[(r, 0)];
+        }
+        Ok(x)
+    }
+}
+
+fn identity_map(n: usize) -> Vec<usize> {
+    (0..n).collect()
+}

@@ -1,0 +1,279 @@
+//! Sparse symmetric positive definite factorisation and the lowest eigenpairs of a sparse
+//! generalised problem `K x = lambda M x` by shift-invert Lanczos.
+//!
+//! With the fill-reducing permutation `P` and `P K P^T = L L^T` (faer's supernodal sparse
+//! Cholesky), the symmetric operator
+//!
+//! ```text
+//! A = L^-1 P M P^T L^-T
+//! ```
+//!
+//! has eigenvalues `mu = 1 / lambda`, so its largest ones are the lowest modes. faer's
+//! matrix-free Krylov-Schur solver (`faer::matrix_free::eigen::partial_self_adjoint_eigen`)
+//! finds them; an eigenvector `y` of `A` maps back to `x = P^T L^-T y / sqrt(mu)`, which is
+//! mass-normalised (`x^T M x = 1`, `x^T K x = lambda`).
+
+use super::SparseMat;
+use crate::error::{JpError, Result};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::matrix_free::LinOp;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, supernodal::SupernodalLltRef, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
+
+/// Sparse Cholesky factor `P A P^T = L L^T` of a symmetric positive definite matrix, with the
+/// half solves that the symmetric shift-invert operator needs.
+#[derive(Debug)]
+pub struct SparseCholesky {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    n: usize,
+}
+
+fn par() -> Par {
+    Par::rayon(0)
+}
+
+impl SparseCholesky {
+    /// Factorises the symmetric positive definite `a` (full or lower storage: the lower
+    /// triangle is read), with an AMD ordering and a supernodal factor.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if `a` is not square, [`JpError::SingularMatrix`] naming `what`
+    /// if it is not numerically positive definite, [`JpError::InvalidValue`] if out of memory.
+    pub fn factor(a: &SparseMat, what: &str) -> Result<Self> {
+        let n = a.nrows();
+        if a.ncols() != n {
+            return Err(JpError::bad_size(format!("{what} (columns)"), n, a.ncols()));
+        }
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(a.as_ref().symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
+            .map_err(|e| JpError::invalid(what, format!("symbolic Cholesky failed: {e:?}")))?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        {
+            let req = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
+            let mut mem = MemBuffer::try_new(req).map_err(|_| JpError::invalid(what, "out of memory"))?;
+            symbolic
+                .factorize_numeric_llt::<f64>(
+                    &mut values,
+                    a.as_ref(),
+                    Side::Lower,
+                    Default::default(),
+                    par(),
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .map_err(|_| JpError::singular(format!("{what} (not positive definite)")))?;
+        }
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(JpError::singular(format!("{what} (non-finite Cholesky factor)")));
+        }
+        Ok(SparseCholesky { symbolic, values, n })
+    }
+
+    /// Size of the factorised matrix.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored values of `L`.
+    pub fn factor_nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Solves `A X = B` in place (any number of columns).
+    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+        let k = rhs.ncols();
+        let req = self.symbolic.solve_in_place_scratch::<f64>(k, par());
+        let mut mem = MemBuffer::new(req);
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, par(), MemStack::new(&mut mem));
+    }
+
+    fn supernodal(&self) -> SupernodalLltRef<'_, usize, f64> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => SupernodalLltRef::new(s, &self.values),
+            // `factor` forces the supernodal variant.
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("supernodal factorisation was forced"),
+        }
+    }
+
+    fn half_scratch(&self, k: usize) -> StackReq {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => s.solve_in_place_scratch::<f64>(k, par()),
+            SymbolicCholeskyRaw::Simplicial(_) => StackReq::EMPTY,
+        }
+    }
+
+    /// `x <- L^-1 P x` (one forward half solve, in the permuted space on output).
+    pub fn l_solve_permuted(&self, x: MatMut<'_, f64>) {
+        let mut x = x;
+        let k = x.ncols();
+        if let Some(perm) = self.symbolic.perm() {
+            let fwd = perm.arrays().0;
+            let tmp = Mat::from_fn(self.n, k, |i, j| x[(fwd[i], j)]);
+            x.copy_from(&tmp);
+        }
+        let mut mem = MemBuffer::new(self.half_scratch(k));
+        self.supernodal().l_solve_with_conj(Conj::No, x, par(), MemStack::new(&mut mem));
+    }
+
+    /// `x <- P^T L^-T x` (one backward half solve, back to the original ordering).
+    pub fn lt_solve_unpermuted(&self, x: MatMut<'_, f64>) {
+        let mut x = x;
+        let k = x.ncols();
+        let mut mem = MemBuffer::new(self.half_scratch(k));
+        self.supernodal().l_transpose_solve_with_conj(Conj::No, x.as_mut(), par(), MemStack::new(&mut mem));
+        if let Some(perm) = self.symbolic.perm() {
+            let inv = perm.arrays().1;
+            let tmp = Mat::from_fn(self.n, k, |i, j| x[(inv[i], j)]);
+            x.copy_from(&tmp);
+        }
+    }
+}
+
+/// The symmetric shift-invert operator `A = L^-1 P M P^T L^-T`, times `scale`.
+#[derive(Debug)]
+struct ShiftInvert<'a> {
+    chol: &'a SparseCholesky,
+    mass: &'a SparseMat,
+    scale: f64,
+}
+
+impl ShiftInvert<'_> {
+    fn apply_to(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>) {
+        let mut x = rhs.to_owned();
+        self.chol.lt_solve_unpermuted(x.as_mut());
+        let mut out = out;
+        super::spmm(out.as_mut(), faer::Accum::Replace, self.mass, x.as_ref(), self.scale);
+        self.chol.l_solve_permuted(out);
+    }
+}
+
+impl LinOp<f64> for ShiftInvert<'_> {
+    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
+        StackReq::EMPTY
+    }
+    fn nrows(&self) -> usize {
+        self.chol.n
+    }
+    fn ncols(&self) -> usize {
+        self.chol.n
+    }
+    fn apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+        self.apply_to(out, rhs);
+    }
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+        self.apply_to(out, rhs);
+    }
+}
+
+/// Lowest eigenpairs of `K x = lambda M x`: eigenvalues ascending, mass-normalised vectors.
+#[derive(Clone, Debug)]
+pub struct SparseEigen {
+    /// Eigenvalues `lambda = omega^2`, ascending.
+    pub eigenvalues: Vec<f64>,
+    /// Mass-normalised eigenvectors as columns (`n x n_modes`).
+    pub vectors: Mat<f64>,
+}
+
+/// Relative tolerance of the Lanczos residual (on the operator scaled to unit norm).
+pub const LANCZOS_TOLERANCE: f64 = 1e-11;
+
+/// Computes the `n_modes` lowest eigenpairs of `K x = lambda M x` with `K` already factorised
+/// (`chol`), `M` symmetric positive (semi-)definite. Small problems (`n <= 2 n_modes + 64`)
+/// fall back to a dense solve.
+///
+/// # Errors
+/// [`JpError::BadSize`] for mismatched sizes, [`JpError::Eigen`] if fewer than `n_modes`
+/// eigenpairs converge.
+pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> Result<SparseEigen> {
+    let n = chol.n;
+    if mass.nrows() != n || mass.ncols() != n {
+        return Err(JpError::bad_size("mass (rows)", n, mass.nrows()));
+    }
+    let n_modes = n_modes.min(n);
+    if n_modes == 0 {
+        return Ok(SparseEigen { eigenvalues: Vec::new(), vectors: Mat::zeros(n, 0) });
+    }
+    let max_dim = (2 * n_modes).max(64);
+    // Dense operator for small problems (faer's Krylov-Schur needs n > its subspace size).
+    let op0 = ShiftInvert { chol, mass, scale: 1.0 };
+    let (mus, ys): (Vec<f64>, Mat<f64>) = if n <= max_dim + 1 {
+        let mut a = Mat::<f64>::identity(n, n);
+        let id = a.clone();
+        op0.apply_to(a.as_mut(), id.as_ref());
+        let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+        let evd = a.self_adjoint_eigen(Side::Lower).map_err(|e| JpError::Eigen { what: format!("dense fallback: {e:?}") })?;
+        let s = evd.S().column_vector();
+        let u = evd.U();
+        // ascending mu -> take the largest n_modes, largest first
+        let mus: Vec<f64> = (0..n_modes).map(|k| s[n - 1 - k]).collect();
+        let ys = Mat::from_fn(n, n_modes, |i, k| u[(i, n - 1 - k)]);
+        (mus, ys)
+    } else {
+        // Normalise the operator by its largest eigenvalue (power iteration estimate) so the
+        // absolute Lanczos tolerance becomes relative.
+        let mut v = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
+        let mut est = 0.0;
+        for _ in 0..30 {
+            let nv = v.norm_l2();
+            v /= nv;
+            let mut w = Mat::zeros(n, 1);
+            op0.apply_to(w.as_mut(), v.as_ref());
+            est = w.norm_l2();
+            v = w;
+        }
+        if !(est.is_finite() && est > 0.0) {
+            return Err(JpError::Eigen { what: format!("shift-invert operator norm estimate {est}") });
+        }
+        let op = ShiftInvert { chol, mass, scale: 1.0 / est };
+        let params = faer::matrix_free::eigen::PartialEigenParams { max_dim, ..Default::default() };
+        let req = faer::matrix_free::eigen::partial_self_adjoint_eigen_scratch::<f64>(&op, n_modes, par(), params);
+        let mut mem = MemBuffer::new(req);
+        let mut vecs = Mat::<f64>::zeros(n, n_modes);
+        let mut vals = vec![0.0; n_modes];
+        let v0 = faer::Col::<f64>::from_fn(n, |i| 1.0 + ((i * 104729) % 17) as f64 / 17.0);
+        let info = faer::matrix_free::eigen::partial_self_adjoint_eigen(
+            vecs.as_mut(),
+            &mut vals,
+            &op,
+            v0.as_ref(),
+            LANCZOS_TOLERANCE,
+            par(),
+            MemStack::new(&mut mem),
+            params,
+        );
+        if info.n_converged_eigen < n_modes {
+            return Err(JpError::Eigen {
+                what: format!("Lanczos converged {} of {n_modes} modes", info.n_converged_eigen),
+            });
+        }
+        (vals.iter().map(|m| m * est).collect(), vecs)
+    };
+    // Sort descending mu (= ascending lambda) and map back.
+    let mut order: Vec<usize> = (0..n_modes).collect();
+    order.sort_by(|&a, &b| mus[b].partial_cmp(&mus[a]).unwrap_or(std::cmp::Ordering::Equal));
+    let mut x = Mat::from_fn(n, n_modes, |i, k| ys[(i, order[k])]);
+    chol.lt_solve_unpermuted(x.as_mut());
+    let mut eigenvalues = Vec::with_capacity(n_modes);
+    for (k, &o) in order.iter().enumerate() {
+        let mu = mus[o];
+        if !(mu.is_finite() && mu > 0.0) {
+            return Err(JpError::Eigen { what: format!("non-positive shift-invert eigenvalue {mu:.3e}") });
+        }
+        let yn = ys.col(o).norm_l2();
+        // x = L^-T y: x^T M x = y^T A y = mu |y|^2
+        let s = 1.0 / (mu.sqrt() * yn);
+        for i in 0..n {
+            x[(i, k)] *= s;
+        }
+        eigenvalues.push(1.0 / mu);
+    }
+    Ok(SparseEigen { eigenvalues, vectors: x })
+}

@@ -1,0 +1,485 @@
+//! Full-order solves from C: options, `jprom_solve_point`, `jprom_sweep` with a progress
+//! callback, and the `jprom_solution` / `jprom_sweep_result` result handles with their accessors.
+
+use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
+use super::handle::{self, Handle};
+use super::model::jprom_model;
+use super::status::jprom_status::{self, *};
+use super::status::FfiError;
+use crate::condensation::CondensedSystem;
+use crate::hbm::{self, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use std::ffi::{c_char, c_int, c_void};
+use std::ops::ControlFlow;
+
+/// Settings of one harmonic-balance solve. Fill with `jprom_hbm_options_default`, then change
+/// fields. `struct_size` must stay `sizeof(jprom_hbm_options)` (lets the struct grow).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct jprom_hbm_options {
+    pub struct_size: usize,
+    /// Highest harmonic H (default 1); the static term is always included.
+    pub harmonics: usize,
+    /// AFT samples per period; 0 (default) = 64 for H <= 3, more above.
+    pub nt: usize,
+    /// Relative residual tolerance (default 1e-10).
+    pub residual_tolerance: f64,
+    /// Newton iterations per point (default 50).
+    pub max_iterations: usize,
+    /// 1 (default): solve on the contact DoFs after condensing the linear ones (method.md §5);
+    /// 0: solve on all DoFs.
+    pub condensed: c_int,
+}
+
+/// Settings of a frequency sweep by pseudo-arclength continuation (rad/s). Fill with
+/// `jprom_sweep_options_default`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct jprom_sweep_options {
+    pub struct_size: usize,
+    pub omega_start: f64,
+    pub omega_end: f64,
+    /// Arclength steps (scaled; defaults 0.02, 1e-6, 0.05).
+    pub initial_step: f64,
+    pub min_step: f64,
+    pub max_step: f64,
+    /// Most points (default 2000).
+    pub max_points: usize,
+}
+
+/// Progress callback of `jprom_sweep`: called on the calling thread after each converged
+/// point with its index, angular frequency and the first-harmonic amplitude at each output
+/// DoF (`n_outputs` values, valid during the call). Return 0 to go on, nonzero to stop.
+#[allow(non_camel_case_types)]
+pub type jprom_progress_fn =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, point_index: usize, omega: f64, amplitudes: *const f64, n_outputs: usize) -> c_int>;
+
+/// One converged frequency point. Released with `jprom_solution_free`.
+#[allow(non_camel_case_types)]
+pub struct jprom_solution {
+    magic: u64,
+    point: PointSolution,
+}
+
+/// The points of a sweep. Released with `jprom_sweep_free`.
+#[allow(non_camel_case_types)]
+pub struct jprom_sweep_result {
+    magic: u64,
+    result: SweepResult,
+}
+
+impl Handle for jprom_solution {
+    const MAGIC: u64 = 0x4A50_524F_4D53_4F4C; // "JPROMSOL"
+    const KIND: &'static str = "jprom_solution";
+    fn magic_mut(&mut self) -> &mut u64 {
+        &mut self.magic
+    }
+    fn magic(&self) -> u64 {
+        self.magic
+    }
+}
+
+impl Handle for jprom_sweep_result {
+    const MAGIC: u64 = 0x4A50_524F_4D53_5750; // "JPROMSWP"
+    const KIND: &'static str = "jprom_sweep_result";
+    fn magic_mut(&mut self) -> &mut u64 {
+        &mut self.magic
+    }
+    fn magic(&self) -> u64 {
+        self.magic
+    }
+}
+
+/// Writes the defaults into `*out`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_hbm_options_default(out: *mut jprom_hbm_options) -> jprom_status {
+    ffi_guard!({
+        let d = HbmOptions::default();
+        *out_arg(out, "out")? = jprom_hbm_options {
+            struct_size: std::mem::size_of::<jprom_hbm_options>(),
+            harmonics: d.harmonics,
+            nt: 0,
+            residual_tolerance: d.residual_tolerance,
+            max_iterations: d.max_iterations,
+            condensed: 1,
+        };
+        Ok(())
+    })
+}
+
+/// Writes the defaults into `*out` (band 0..0: set `omega_start` and `omega_end`).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_options_default(out: *mut jprom_sweep_options) -> jprom_status {
+    ffi_guard!({
+        let d = SweepOptions::default();
+        *out_arg(out, "out")? = jprom_sweep_options {
+            struct_size: std::mem::size_of::<jprom_sweep_options>(),
+            omega_start: d.omega_start,
+            omega_end: d.omega_end,
+            initial_step: d.initial_step,
+            min_step: d.min_step,
+            max_step: d.max_step,
+            max_points: d.max_points,
+        };
+        Ok(())
+    })
+}
+
+fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError> {
+    if o.struct_size != std::mem::size_of::<jprom_hbm_options>() {
+        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_hbm_options.struct_size: fill the options with jprom_hbm_options_default"));
+    }
+    let opts = HbmOptions {
+        harmonics: o.harmonics,
+        nt: if o.nt == 0 { None } else { Some(o.nt) },
+        residual_tolerance: finite_arg("residual_tolerance", o.residual_tolerance)?,
+        max_iterations: o.max_iterations,
+        ..HbmOptions::default()
+    };
+    opts.validate()?;
+    Ok(opts)
+}
+
+fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, FfiError> {
+    if o.struct_size != std::mem::size_of::<jprom_sweep_options>() {
+        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_sweep_options.struct_size: fill the options with jprom_sweep_options_default"));
+    }
+    let s = SweepOptions {
+        omega_start: o.omega_start,
+        omega_end: o.omega_end,
+        initial_step: o.initial_step,
+        min_step: o.min_step,
+        max_step: o.max_step,
+        max_points: o.max_points,
+        ..SweepOptions::default()
+    };
+    s.validate()?;
+    Ok(s)
+}
+
+fn system(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
+    Ok(if condensed != 0 {
+        Box::new(CondensedSystem::new(&model.model, opts)?)
+    } else {
+        Box::new(FullSystem::new(&model.model, opts)?)
+    })
+}
+
+/// Solves one frequency point `omega` (rad/s) from a zero initial guess.
+/// `JPROM_NO_CONVERGENCE` if Newton fails (no solution is returned then).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solve_point(
+    model: *const jprom_model,
+    omega: f64,
+    options: *const jprom_hbm_options,
+    out: *mut *mut jprom_solution,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let out = out_arg(out, "out")?;
+        let opts = hbm_options(o)?;
+        let sys = system(m, &opts, o.condensed)?;
+        let point = hbm::solve_point(sys.as_ref(), finite_arg("omega", omega)?, None, &opts)?;
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point });
+        Ok(())
+    })
+}
+
+/// Sweeps `[omega_start, omega_end]` by pseudo-arclength continuation.
+///
+/// `callback` may be NULL. If it returns nonzero the sweep stops: the call returns
+/// `JPROM_CANCELLED` AND still writes `*out` with the points computed so far (free it).
+/// If continuation fails before the end of the band, the call returns `JPROM_OK` with the
+/// points found; `jprom_sweep_reached_end` tells whether the band was covered, and
+/// `jprom_sweep_failure_copy` why not. If not even the first point converges, the status is
+/// that error and `*out` is not written.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep(
+    model: *const jprom_model,
+    options: *const jprom_hbm_options,
+    sweep_opts: *const jprom_sweep_options,
+    callback: jprom_progress_fn,
+    user_data: *mut c_void,
+    out: *mut *mut jprom_sweep_result,
+) -> jprom_status {
+    let mut cancelled = false;
+    let status = ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let out = out_arg(out, "out")?;
+        let opts = hbm_options(o)?;
+        let sopts = sweep_options(so)?;
+        let sys = system(m, &opts, o.condensed)?;
+        let mut index = 0usize;
+        let mut amps = Vec::new();
+        let mut on_point = |p: &PointSolution| {
+            let stop = match callback {
+                Some(cb) => {
+                    amps.clear();
+                    amps.extend((0..p.n_outputs).map(|j| if p.layout.harmonics >= 1 { p.output_amplitude(1, j) } else { 0.0 }));
+                    cb(user_data, index, p.omega, amps.as_ptr(), amps.len()) != 0
+                }
+                None => false,
+            };
+            index += 1;
+            if stop {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        };
+        let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
+        cancelled = result.end == SweepEnd::StoppedByCaller;
+        *out = handle::into_raw(jprom_sweep_result { magic: jprom_sweep_result::MAGIC, result });
+        Ok(())
+    });
+    if status == JPROM_OK && cancelled {
+        super::status::set_last_error("sweep stopped by the progress callback");
+        return JPROM_CANCELLED;
+    }
+    status
+}
+
+/// Releases a solution (NULL is a no-op).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_free(solution: *mut jprom_solution) -> jprom_status {
+    ffi_guard!({ handle::free(solution, "solution") })
+}
+
+/// Releases a sweep (NULL is a no-op).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep_result) -> jprom_status {
+    ffi_guard!({ handle::free(sweep, "sweep") })
+}
+
+/// Number of converged points in a sweep.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.result.points.len();
+        Ok(())
+    })
+}
+
+/// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = (handle::get(sweep, "sweep")?.result.end == SweepEnd::ReachedEnd) as c_int;
+        Ok(())
+    })
+}
+
+/// Copies why the sweep ended early (empty if it did not) into `buf`, like
+/// `jprom_last_error_copy`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        let text = s.result.failure.clone().unwrap_or_default();
+        if !written.is_null() {
+            *written = text.len();
+        }
+        let b = slice_out(buf as *mut u8, len, "buf")?;
+        if let Some((last, body)) = b.split_last_mut() {
+            let n = text.len().min(body.len());
+            body[..n].copy_from_slice(&text.as_bytes()[..n]);
+            if n < body.len() {
+                body[n] = 0;
+            } else {
+                *last = 0;
+            }
+        }
+        Ok(())
+    })
+}
+
+unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a PointSolution, FfiError> {
+    let s = handle::get(sweep, "sweep")?;
+    s.result
+        .points
+        .get(index)
+        .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("point index {index} >= {}", s.result.points.len())))
+}
+
+/// A point of a sweep as a new, independent `jprom_solution` (free it).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
+    ffi_guard!({
+        let p = sweep_point(sweep, index)?.clone();
+        *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p });
+        Ok(())
+    })
+}
+
+/// Angular frequency of point `index` of a sweep.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep_result, index: usize, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = sweep_point(sweep, index)?.omega;
+        Ok(())
+    })
+}
+
+/// Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
+/// `sqrt(c^2 + s^2)` for `h >= 1`).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_result, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let p = sweep_point(sweep, index)?;
+        *out_arg(out, "out")? = amplitude(p, h, j)?;
+        Ok(())
+    })
+}
+
+fn amplitude(p: &PointSolution, h: usize, j: usize) -> Result<f64, FfiError> {
+    if h > p.layout.harmonics {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("harmonic {h} > H = {}", p.layout.harmonics)));
+    }
+    if j >= p.n_outputs {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("output index {j} >= {}", p.n_outputs)));
+    }
+    Ok(p.output_amplitude(h, j))
+}
+
+/// Angular frequency of a solution.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_omega(solution: *const jprom_solution, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = handle::get(solution, "solution")?.point.omega;
+        Ok(())
+    })
+}
+
+/// Harmonics `H` and output count of a solution (either pointer may be NULL).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_sizes(solution: *const jprom_solution, harmonics: *mut usize, n_outputs: *mut usize, n_contacts: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        if let Some(h) = harmonics.as_mut() {
+            *h = p.layout.harmonics;
+        }
+        if let Some(n) = n_outputs.as_mut() {
+            *n = p.n_outputs;
+        }
+        if let Some(n) = n_contacts.as_mut() {
+            *n = p.contact_cycles.len();
+        }
+        Ok(())
+    })
+}
+
+/// Copies the output-DoF coefficients (`(2H + 1) * n_outputs` values, entry `k * n_outputs + j`)
+/// into `buf` of capacity `len`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_output_coeffs(solution: *const jprom_solution, buf: *mut f64, len: usize) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        check_capacity("buf", p.outputs.len(), len)?;
+        slice_out(buf, p.outputs.len(), "buf")?.copy_from_slice(&p.outputs);
+        Ok(())
+    })
+}
+
+/// Amplitude of harmonic `h` at output `j`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_amplitude(solution: *const jprom_solution, h: usize, j: usize, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        *out_arg(out, "out")? = amplitude(p, h, j)?;
+        Ok(())
+    })
+}
+
+/// Newton iterations and final relative residual (either pointer may be NULL).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_convergence(solution: *const jprom_solution, iterations: *mut usize, residual: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        if let Some(i) = iterations.as_mut() {
+            *i = p.iterations;
+        }
+        if let Some(r) = residual.as_mut() {
+            *r = p.residual_norm;
+        }
+        Ok(())
+    })
+}
+
+/// Energy dissipated per cycle by each contact (`n_contacts` values) into `buf` of capacity `len`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_dissipated_energy(solution: *const jprom_solution, buf: *mut f64, len: usize) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        let n = p.contact_cycles.len();
+        check_capacity("buf", n, len)?;
+        let out = slice_out(buf, n, "buf")?;
+        for (o, c) in out.iter_mut().zip(&p.contact_cycles) {
+            *o = c.dissipated_energy;
+        }
+        Ok(())
+    })
+}
+
+/// Number of AFT time samples per contact in the solution's state record.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_n_samples(solution: *const jprom_solution, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        *out_arg(out, "out")? = p.contact_cycles.first().map(|c| c.states.len()).unwrap_or(0);
+        Ok(())
+    })
+}
+
+/// Contact states (0 stick, 1 slip, 2 separated) of contact `contact` at each time sample,
+/// into `buf` of capacity `len` (`jprom_solution_n_samples` values).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_contact_states(solution: *const jprom_solution, contact: usize, buf: *mut u8, len: usize) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        let c = p
+            .contact_cycles
+            .get(contact)
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("contact index {contact} >= {}", p.contact_cycles.len())))?;
+        check_capacity("buf", c.states.len(), len)?;
+        let out = slice_out(buf, c.states.len(), "buf")?;
+        for (o, s) in out.iter_mut().zip(&c.states) {
+            *o = *s as u8;
+        }
+        Ok(())
+    })
+}
+
+/// Saves a solution as versioned JSON.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_save_json(solution: *const jprom_solution, path: *const c_char) -> jprom_status {
+    ffi_guard!({
+        let p = &handle::get(solution, "solution")?.point;
+        crate::io::save_json("solution", p, &path_arg(path, "path")?)?;
+        Ok(())
+    })
+}
+
+/// Loads a solution saved by `jprom_solution_save_json`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut *mut jprom_solution) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let point: PointSolution = crate::io::load_json("solution", &path_arg(path, "path")?)?;
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point });
+        Ok(())
+    })
+}
+
+/// Saves all points of a sweep as versioned JSON.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        crate::io::save_json("sweep", &s.result, &path_arg(path, "path")?)?;
+        Ok(())
+    })
+}

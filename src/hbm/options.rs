@@ -1,0 +1,174 @@
+//! Settings of the HBM point solver ([`HbmOptions`]) and of the continuation ([`SweepOptions`]).
+
+use crate::error::{JpError, Result};
+use serde::{Deserialize, Serialize};
+
+/// Settings of one harmonic-balance solve (method.md §2-3).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HbmOptions {
+    /// Highest harmonic `H` (default 1). The static term `h = 0` is always included.
+    pub harmonics: usize,
+    /// AFT time samples per period; `None` (default) picks [`default_nt`]`(H)`.
+    pub nt: Option<usize>,
+    /// Converged when `|r| <= residual_tolerance * |f_ref|`, with `f_ref` the larger of the
+    /// external force norm and the contact force norm at the initial guess (default `1e-10`).
+    pub residual_tolerance: f64,
+    /// Stagnation: the solve stops with [`JpError::NoConvergence`] when a scaled step is below
+    /// `step_tolerance * (1 + |scaled z|)` while the residual is still above tolerance
+    /// (default `1e-14`).
+    pub step_tolerance: f64,
+    /// Maximum Newton iterations (Jacobian evaluations) per point (default 50).
+    pub max_iterations: usize,
+    /// Dogleg trust region on the scaled problem (default true). When false, plain Newton.
+    pub trust_region: bool,
+    /// Initial trust radius as a multiple of the first full Newton step's scaled length
+    /// (default 1: the first Newton step is always tried in full).
+    pub initial_radius_factor: f64,
+    /// Scale unknowns by the Jacobian's column norms and the residual by `f_ref`
+    /// (default true). Without it the trust region acts on the raw unknowns.
+    pub scaling: bool,
+}
+
+/// Default AFT sample count: 64 for `H <= 3`, else the next power of two at or above
+/// `16 (H + 1)` (128 for `H = 4..=7`, 256 up to 15), so that friction's higher harmonics
+/// alias little into `0..=H` (method.md §3).
+pub fn default_nt(harmonics: usize) -> usize {
+    if harmonics <= 3 {
+        64
+    } else {
+        (16 * (harmonics + 1)).next_power_of_two()
+    }
+}
+
+impl Default for HbmOptions {
+    fn default() -> Self {
+        HbmOptions {
+            harmonics: 1,
+            nt: None,
+            residual_tolerance: 1e-10,
+            step_tolerance: 1e-14,
+            max_iterations: 50,
+            trust_region: true,
+            initial_radius_factor: 1.0,
+            scaling: true,
+        }
+    }
+}
+
+impl HbmOptions {
+    /// Options with `H = harmonics` and the defaults otherwise.
+    pub fn with_harmonics(harmonics: usize) -> Self {
+        HbmOptions { harmonics, ..Default::default() }
+    }
+
+    /// The AFT sample count in effect.
+    pub fn nt(&self) -> usize {
+        self.nt.unwrap_or_else(|| default_nt(self.harmonics))
+    }
+
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the bad option.
+    pub fn validate(&self) -> Result<()> {
+        if self.harmonics == 0 {
+            return Err(JpError::invalid("HbmOptions.harmonics", "must be >= 1"));
+        }
+        let nt = self.nt();
+        if !nt.is_power_of_two() || nt < 4 * (self.harmonics + 1) {
+            return Err(JpError::invalid(
+                "HbmOptions.nt",
+                format!("must be a power of two >= 4 (H + 1) = {}, got {nt}", 4 * (self.harmonics + 1)),
+            ));
+        }
+        positive("HbmOptions.residual_tolerance", self.residual_tolerance)?;
+        if !(self.step_tolerance.is_finite() && self.step_tolerance >= 0.0) {
+            return Err(JpError::invalid("HbmOptions.step_tolerance", "must be finite and >= 0"));
+        }
+        if self.max_iterations == 0 {
+            return Err(JpError::invalid("HbmOptions.max_iterations", "must be >= 1"));
+        }
+        positive("HbmOptions.initial_radius_factor", self.initial_radius_factor)
+    }
+}
+
+/// Settings of the pseudo-arclength continuation over a frequency band.
+///
+/// Arclength is measured on scaled variables: `omega / |omega_end - omega_start|` and
+/// `z / z_ref`, with `z_ref` the largest norm of the harmonic (`h >= 1`) part of `z` met so far
+/// on the branch. A step of 0.05 thus moves at most 5 % of the band in frequency.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepOptions {
+    /// Start and end of the band (rad/s); the sweep goes from start towards end (either way).
+    pub omega_start: f64,
+    pub omega_end: f64,
+    /// First arclength step (default 0.02), smallest (default 1e-6) and largest (default 0.05).
+    pub initial_step: f64,
+    pub min_step: f64,
+    pub max_step: f64,
+    /// Most points on the branch, start included (default 2000).
+    pub max_points: usize,
+    /// Corrector Newton iterations before a step is rejected and halved (default 12).
+    pub max_corrector_iterations: usize,
+    /// Corrector iterations aimed at: the next step is scaled by `target / used`, clamped to
+    /// `[0.5, 2]` (default 4).
+    pub target_iterations: usize,
+    /// Relative frequency increment of the central difference `dR/domega` (default 1e-6).
+    pub omega_difference: f64,
+}
+
+impl Default for SweepOptions {
+    fn default() -> Self {
+        SweepOptions {
+            omega_start: 0.0,
+            omega_end: 0.0,
+            initial_step: 0.02,
+            min_step: 1e-6,
+            max_step: 0.05,
+            max_points: 2000,
+            max_corrector_iterations: 12,
+            target_iterations: 4,
+            omega_difference: 1e-6,
+        }
+    }
+}
+
+impl SweepOptions {
+    /// A sweep over `[omega_start, omega_end]` with the default steps.
+    pub fn band(omega_start: f64, omega_end: f64) -> Self {
+        SweepOptions { omega_start, omega_end, ..Default::default() }
+    }
+
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the bad option.
+    pub fn validate(&self) -> Result<()> {
+        positive("SweepOptions.omega_start", self.omega_start)?;
+        positive("SweepOptions.omega_end", self.omega_end)?;
+        if self.omega_start == self.omega_end {
+            return Err(JpError::invalid("SweepOptions.omega_end", "must differ from omega_start"));
+        }
+        positive("SweepOptions.min_step", self.min_step)?;
+        positive("SweepOptions.initial_step", self.initial_step)?;
+        positive("SweepOptions.max_step", self.max_step)?;
+        if !(self.min_step <= self.initial_step && self.initial_step <= self.max_step) {
+            return Err(JpError::invalid("SweepOptions steps", "need min_step <= initial_step <= max_step"));
+        }
+        if self.max_points < 2 {
+            return Err(JpError::invalid("SweepOptions.max_points", "must be >= 2"));
+        }
+        if self.max_corrector_iterations == 0 || self.target_iterations == 0 {
+            return Err(JpError::invalid("SweepOptions iterations", "must be >= 1"));
+        }
+        positive("SweepOptions.omega_difference", self.omega_difference)
+    }
+}
+
+fn positive(what: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(JpError::invalid(what, format!("must be finite and > 0, got {v}")))
+    }
+}

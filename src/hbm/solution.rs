@@ -1,0 +1,84 @@
+//! What a solve returns: one converged frequency point ([`PointSolution`]) and a branch of
+//! them ([`SweepResult`]).
+
+use super::HarmonicLayout;
+use crate::aft::ContactCycle;
+use crate::error::JpError;
+use serde::{Deserialize, Serialize};
+
+/// One converged harmonic-balance solution (an unconverged point is never returned).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointSolution {
+    /// Angular frequency (rad/s).
+    pub omega: f64,
+    /// Unknowns of the system, in the order of `layout`.
+    pub z: Vec<f64>,
+    /// Layout of `z`.
+    pub layout: HarmonicLayout,
+    /// Always true for a returned point (kept for callers that store failed attempts).
+    pub converged: bool,
+    /// Newton (or corrector) iterations used.
+    pub iterations: usize,
+    /// `|r| / |f_ref|` at the solution.
+    pub residual_norm: f64,
+    /// Physical response at the output DoFs, entry `k * n_outputs + j` (`k = 0`, `2h - 1`
+    /// cos, `2h` sin).
+    pub outputs: Vec<f64>,
+    /// Number of output DoFs.
+    pub n_outputs: usize,
+    /// Per contact: state at each time sample and dissipated energy per cycle.
+    pub contact_cycles: Vec<ContactCycle>,
+}
+
+impl PointSolution {
+    /// Output coefficient `k` of output DoF `j`.
+    pub fn output_coeff(&self, k: usize, j: usize) -> f64 {
+        self.outputs[k * self.n_outputs + j]
+    }
+
+    /// Amplitude of harmonic `h` at output DoF `j`: `sqrt(c^2 + s^2)` for `h >= 1`, `|c_0|`
+    /// for `h = 0`.
+    pub fn output_amplitude(&self, h: usize, j: usize) -> f64 {
+        if h == 0 {
+            self.output_coeff(0, j).abs()
+        } else {
+            self.output_coeff(2 * h - 1, j).hypot(self.output_coeff(2 * h, j))
+        }
+    }
+
+    /// Total energy dissipated by friction per cycle, over all contacts.
+    pub fn dissipated_energy(&self) -> f64 {
+        self.contact_cycles.iter().map(|c| c.dissipated_energy).sum()
+    }
+}
+
+/// Why a sweep ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SweepEnd {
+    /// The branch reached `omega_end`.
+    ReachedEnd,
+    /// The callback returned `Break` (the C ABI reports it as cancelled).
+    StoppedByCaller,
+    /// A step was rejected at the minimum step size: the corrector did not converge.
+    StepTooSmall,
+    /// `max_points` points were computed before reaching `omega_end`.
+    MaxPoints,
+}
+
+/// A branch of converged points from a pseudo-arclength sweep.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepResult {
+    /// Converged points in branch order (frequency may go back and forth at folds).
+    pub points: Vec<PointSolution>,
+    /// Continuation steps rejected (corrector failed) and retried with a smaller step.
+    pub rejected_steps: usize,
+    /// Why the sweep ended.
+    pub end: SweepEnd,
+    /// True unless the branch reached `omega_end`.
+    pub stopped_early: bool,
+    /// For [`SweepEnd::StepTooSmall`]: the last corrector error, as text (kept for files).
+    pub failure: Option<String>,
+    /// For [`SweepEnd::StepTooSmall`]: the last corrector error (not serialised).
+    #[serde(skip)]
+    pub error: Option<JpError>,
+}

@@ -1,0 +1,207 @@
+//! The JP reduction basis `Φ_h`, `h = 0..=H` (method.md §6-8): JP modes of one or several sets
+//! of boundary conditions, stacked per harmonic (36) and conditioned (38).
+
+use super::conditioning::condition;
+use super::modes::{jp_modes, JpModes, ModeOptions};
+use super::ContactJacobian;
+use crate::error::{JpError, Result};
+use crate::linalg::serde_mat_vec;
+use crate::model::ContactCoordinates;
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// How a basis is built from JP modes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BasisOptions {
+    /// Selection of the eigenpairs (band, extra modes).
+    pub modes: ModeOptions,
+    /// Conditioning ratio `gamma` of (38) (typically 1e2 to 1e4; larger is bigger and more accurate).
+    pub gamma: f64,
+}
+
+/// A conditioned JP basis in contact coordinates (`z = [w; y]`, so the contact rows are the
+/// first `n_w`). Serialisable; saved as a versioned "basis" document.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JpBasis {
+    /// Orthonormal `Φ_h` (`n x n_h`), `h = 0..=H`.
+    #[serde(with = "serde_mat_vec")]
+    pub phi: Vec<Mat<f64>>,
+    /// `n_h`, `h = 0..=H`.
+    pub sizes: Vec<usize>,
+    /// Conditioning ratio used.
+    pub gamma: f64,
+    /// Number of distinct boundary conditions (contact-state patterns) whose modes were stacked.
+    pub n_patterns: usize,
+    /// Number of model DoFs `n` and contact coordinates `n_w` the basis was built for.
+    pub n_dof: usize,
+    pub n_w: usize,
+    /// Singular values of the raw stacked modes per harmonic (for choosing `gamma`).
+    pub singular_values: Vec<Vec<f64>>,
+}
+
+impl JpBasis {
+    /// Highest harmonic `H`.
+    pub fn harmonics(&self) -> usize {
+        self.phi.len() - 1
+    }
+
+    /// Conditions the raw stacked modes `raw[h]` with `gamma`.
+    ///
+    /// # Errors
+    /// As [`condition`]; [`JpError::BadSize`] if the harmonics have different row counts.
+    pub fn from_raw(raw: &[Mat<f64>], gamma: f64, n_patterns: usize, n_w: usize) -> Result<Self> {
+        if raw.len() < 2 {
+            return Err(JpError::invalid("JP basis", "needs the static term and at least one harmonic"));
+        }
+        let n = raw[0].nrows();
+        let mut phi = Vec::with_capacity(raw.len());
+        let mut singular_values = Vec::with_capacity(raw.len());
+        for (h, r) in raw.iter().enumerate() {
+            if r.nrows() != n {
+                return Err(JpError::bad_size(format!("JP modes of harmonic {h} (rows)"), n, r.nrows()));
+            }
+            let c = condition(r, gamma)?;
+            phi.push(c.basis);
+            singular_values.push(c.singular_values);
+        }
+        let sizes = phi.iter().map(|p| p.ncols()).collect();
+        Ok(JpBasis { phi, sizes, gamma, n_patterns, n_dof: n, n_w, singular_values })
+    }
+
+    /// The basis of one set of boundary conditions (e.g. a full-order solution's own `K̂`).
+    ///
+    /// # Errors
+    /// As [`jp_modes`] and [`condition`].
+    pub fn from_jacobian(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &BasisOptions) -> Result<Self> {
+        let modes = jp_modes(coords, k_hat, &opts.modes)?;
+        Self::from_raw(&modes.phi, opts.gamma, 1, coords.n_w)
+    }
+
+    /// Stacks (36) the modes of several boundary conditions and conditions them.
+    ///
+    /// # Errors
+    /// As [`condition`]; [`JpError::InvalidValue`] if `modes` is empty or harmonics differ.
+    pub fn from_modes(modes: &[JpModes], gamma: f64, n_w: usize) -> Result<Self> {
+        let first = modes.first().ok_or_else(|| JpError::invalid("JP modes", "no boundary conditions given"))?;
+        let nh = first.phi.len();
+        let n = first.phi[0].nrows();
+        let mut raw = Vec::with_capacity(nh);
+        for h in 0..nh {
+            let total: usize = modes.iter().map(|m| m.phi.get(h).map_or(0, |p| p.ncols())).sum();
+            let mut stacked = Mat::zeros(n, total);
+            let mut at = 0;
+            for m in modes {
+                let p = m.phi.get(h).ok_or_else(|| JpError::invalid("JP modes", "different numbers of harmonics"))?;
+                stacked.as_mut().submatrix_mut(0, at, n, p.ncols()).copy_from(p);
+                at += p.ncols();
+            }
+            raw.push(stacked);
+        }
+        Self::from_raw(&raw, gamma, modes.len(), n_w)
+    }
+
+    /// Re-conditions with another `gamma` is not possible from the conditioned basis alone;
+    /// this extends the basis by extra columns (orthonormalised against it, dropping those
+    /// within `tol` of its span), e.g. to add a regenerated set of modes.
+    pub fn extended(&self, extra: &[Mat<f64>], tol: f64) -> Result<Self> {
+        if extra.len() != self.phi.len() {
+            return Err(JpError::bad_size("extra columns (harmonics)", self.phi.len(), extra.len()));
+        }
+        let mut phi = Vec::with_capacity(self.phi.len());
+        for (p, e) in self.phi.iter().zip(extra) {
+            phi.push(orthonormal_extension(p, e, tol)?);
+        }
+        let sizes = phi.iter().map(|p| p.ncols()).collect();
+        Ok(JpBasis { phi, sizes, singular_values: self.singular_values.clone(), ..self.clone() })
+    }
+
+    /// The union of two bases (e.g. a basis and the one regenerated from a reduced solution,
+    /// method.md §7 last paragraph): per harmonic the columns of both are stacked (36) and
+    /// re-conditioned by SVD (37)-(38) with `gamma`. Both are orthonormal, so every singular
+    /// value of the stack lies in `[0, sqrt 2]` and `gamma` only drops directions the two
+    /// share up to `sqrt 2 / gamma`.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if the bases differ in model size or harmonics; as [`condition`].
+    pub fn union(&self, other: &JpBasis, gamma: f64) -> Result<Self> {
+        if self.n_dof != other.n_dof || self.n_w != other.n_w || self.phi.len() != other.phi.len() {
+            return Err(JpError::bad_size("bases to unite (rows x harmonics)", self.n_dof * self.phi.len(), other.n_dof * other.phi.len()));
+        }
+        let n = self.n_dof;
+        let raw: Vec<Mat<f64>> = self
+            .phi
+            .iter()
+            .zip(&other.phi)
+            .map(|(a, b)| {
+                let mut m = Mat::zeros(n, a.ncols() + b.ncols());
+                m.as_mut().submatrix_mut(0, 0, n, a.ncols()).copy_from(a);
+                m.as_mut().submatrix_mut(0, a.ncols(), n, b.ncols()).copy_from(b);
+                m
+            })
+            .collect();
+        Self::from_raw(&raw, gamma, self.n_patterns + other.n_patterns, self.n_w)
+    }
+
+    /// Total number of reduced unknowns `n_0 + 2 sum_h n_h`.
+    pub fn n_unknowns(&self) -> usize {
+        self.sizes[0] + 2 * self.sizes[1..].iter().sum::<usize>()
+    }
+
+    /// Saves as a versioned JSON "basis" document.
+    pub fn save_json(&self, path: &Path) -> Result<()> {
+        crate::io::save_json("basis", self, path)
+    }
+
+    /// Loads a "basis" document and checks its consistency.
+    ///
+    /// # Errors
+    /// I/O and parse errors, [`JpError::BadSize`] if the sizes do not match the matrices.
+    pub fn load_json(path: &Path) -> Result<Self> {
+        let b: JpBasis = crate::io::load_json("basis", path)?;
+        if b.phi.len() != b.sizes.len() || b.phi.len() < 2 {
+            return Err(JpError::bad_size("basis harmonics", b.sizes.len(), b.phi.len()));
+        }
+        for (h, p) in b.phi.iter().enumerate() {
+            if p.nrows() != b.n_dof || p.ncols() != b.sizes[h] {
+                return Err(JpError::bad_size(format!("basis harmonic {h}"), b.n_dof * b.sizes[h], p.nrows() * p.ncols()));
+            }
+        }
+        Ok(b)
+    }
+}
+
+/// `[p, e']` with `e'` the part of `e` orthogonal to `p`, orthonormalised by a thin SVD and
+/// keeping directions whose singular value exceeds `tol` (relative to unit columns).
+pub(crate) fn orthonormal_extension(p: &Mat<f64>, e: &Mat<f64>, tol: f64) -> Result<Mat<f64>> {
+    let n = p.nrows();
+    if e.ncols() == 0 {
+        return Ok(p.clone());
+    }
+    if e.nrows() != n {
+        return Err(JpError::bad_size("extra columns (rows)", n, e.nrows()));
+    }
+    // Normalise, project out span(p) twice (classical Gram-Schmidt with re-orthogonalisation).
+    let mut r = e.clone();
+    for j in 0..r.ncols() {
+        let nrm = super::col_norm(&r, j);
+        if nrm > 0.0 {
+            for i in 0..n {
+                r[(i, j)] /= nrm;
+            }
+        }
+    }
+    for _ in 0..2 {
+        if p.ncols() > 0 {
+            let c = p.transpose() * &r;
+            r -= p * &c;
+        }
+    }
+    let svd = r.thin_svd().map_err(|e| JpError::Eigen { what: format!("SVD of basis extension: {e:?}") })?;
+    let s = svd.S().column_vector();
+    let keep = (0..s.nrows()).take_while(|&i| s[i] > tol).count();
+    let mut out = Mat::zeros(n, p.ncols() + keep);
+    out.as_mut().submatrix_mut(0, 0, n, p.ncols()).copy_from(p);
+    out.as_mut().submatrix_mut(0, p.ncols(), n, keep).copy_from(svd.U().subcols(0, keep));
+    Ok(out)
+}

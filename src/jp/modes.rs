@@ -1,0 +1,233 @@
+//! JP modes of one set of boundary conditions (method.md §6, paper (27)-(35)).
+//!
+//! Given the contact stiffness `K̂` (a [`ContactJacobian`]):
+//! 1. static condensation (28) with `A_0 = K + K̂_00`;
+//! 2. condensed stiffness (30) on the coefficients of harmonics `1..H`,
+//!    `K_JC(i,j) = δ_ij K + K̂_ij - K̂_i0 A_0^-1 K̂_0j`; `M_JC = blockdiag(h^2 M)`;
+//! 3. the non-symmetric eigenproblem (31) `K_JC v = λ M_JC v`, made standard with the Cholesky
+//!    factor of `M` (`M_JC` is SPD): `L_J^-1 K_JC L_J^-T u = λ u`, `v = L_J^-T u`; dense.
+//!    A mode is in the band when `sqrt(Re λ)` (the fundamental angular frequency at which one
+//!    of its harmonics resonates) lies in `[omega_lo, omega_hi]`;
+//! 4. per-harmonic columns (33): the cos and sin parts of harmonic `h` of every kept eigenvector
+//!    (real and imaginary parts), each normalised to unit length (a decision of jprom: the SVD
+//!    conditioning (38) then judges directions, not the arbitrary scale of each eigenvector);
+//! 5. static columns (35): `A_0^-1 K̂_{0c} φ` for every column `φ` of `Φ_h` and both coefficients
+//!    `c` (cos and sin) of harmonic `h`, plus `A_0^-1 f_E^0` and `A_0^-1 [g; 0]` with `g` the
+//!    non-homogeneous part of the static contact force ([`ContactJacobian::static_offset`]).
+//!    With these, the linearised static condensation (28) of any combination of the dynamic
+//!    columns is exactly in the span of `Φ_0`.
+//!
+//! The dense path costs `O((2 H n)^3)`; it is meant for Craig-Bampton-sized models
+//! (`n` up to a few hundred).
+
+use super::{col_norm, lu_solve, stack_columns, ContactJacobian};
+use crate::error::{JpError, Result};
+use crate::model::ContactCoordinates;
+use faer::{Mat, Side};
+use serde::{Deserialize, Serialize};
+
+/// Parts of eigenvectors shorter than this (eigenvectors have unit length) are treated as
+/// round-off and dropped, e.g. the harmonic-2 part of a fully stuck harmonic-1 mode.
+pub const PART_FLOOR: f64 = 1e-9;
+
+/// Which eigenpairs of (31) become JP modes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModeOptions {
+    /// Analysis band `[omega_lo, omega_hi]`, angular frequency (rad/s).
+    pub band: (f64, f64),
+    /// Number of further eigenpairs, nearest to the band (in `sqrt(Re λ)`), kept as well.
+    /// Eigenvalues are counted one by one (a stuck pair counts 2).
+    pub extra_outside: usize,
+}
+
+/// The JP modes of one set of boundary conditions, before conditioning.
+#[derive(Clone, Debug)]
+pub struct JpModes {
+    /// Kept eigenvalues `λ` of (31) as `(Re, Im)`, sorted by `Re λ`.
+    pub eigenvalues: Vec<(f64, f64)>,
+    /// Raw basis columns per harmonic `h = 0..=H` (unit columns, not orthogonal).
+    pub phi: Vec<Mat<f64>>,
+}
+
+impl JpModes {
+    /// `sqrt(max(Re λ, 0))` of each kept eigenvalue (angular frequency).
+    pub fn frequencies(&self) -> Vec<f64> {
+        self.eigenvalues.iter().map(|&(re, _)| re.max(0.0).sqrt()).collect()
+    }
+}
+
+/// Computes the JP modes (31)-(35) of the boundary conditions `k_hat` on the model `coords`.
+///
+/// # Errors
+/// [`JpError::BadSize`] if `k_hat` does not match the model; [`JpError::InvalidValue`] for a bad
+/// band; [`JpError::SingularMatrix`] if `K + K̂_00` is singular (a free structure with no
+/// contact holding it statically) or `M` not positive definite; [`JpError::Eigen`] if the
+/// eigen solver fails.
+pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &ModeOptions) -> Result<JpModes> {
+    let n = coords.stiffness.nrows();
+    let nw = coords.n_w;
+    let hh = k_hat.harmonics;
+    if hh == 0 {
+        return Err(JpError::invalid("harmonics", "JP modes need H >= 1"));
+    }
+    if k_hat.n_w != nw || k_hat.k_hat.nrows() != (2 * hh + 1) * nw {
+        return Err(JpError::bad_size("contact Jacobian (rows)", (2 * hh + 1) * nw, k_hat.k_hat.nrows()));
+    }
+    let (lo, hi) = opts.band;
+    if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi >= lo) {
+        return Err(JpError::invalid("band", format!("need 0 <= omega_lo <= omega_hi, got ({lo}, {hi})")));
+    }
+
+    // (28): A_0 = K + K̂_00 and the responses A_0^-1 [I_w; 0], A_0^-1 f_E^0, A_0^-1 [g; 0].
+    let mut a0 = coords.stiffness.clone();
+    for j in 0..nw {
+        for i in 0..nw {
+            a0[(i, j)] += k_hat.k_hat[(i, j)];
+        }
+    }
+    let mut rhs = Mat::<f64>::zeros(n, nw + 2);
+    for i in 0..nw {
+        rhs[(i, i)] = 1.0;
+        rhs[(i, nw + 1)] = k_hat.static_offset[i];
+    }
+    for i in 0..n {
+        rhs[(i, nw)] = coords.static_force[i];
+    }
+    let sol = lu_solve("K + K̂_00 (static condensation (28))", &a0, &rhs)?;
+    let g_ww = sol.as_ref().submatrix(0, 0, nw, nw).to_owned();
+
+    // (30): K_JC on the 2H coefficients 1..=2H (block c - 1 of size n).
+    let nj = 2 * hh;
+    let mut kjc = Mat::<f64>::zeros(nj * n, nj * n);
+    for c in 0..nj {
+        kjc.as_mut().submatrix_mut(c * n, c * n, n, n).copy_from(&coords.stiffness);
+    }
+    for ci in 1..=nj {
+        let ki0 = k_hat.block(ci, 0);
+        let left = ki0 * &g_ww; // K̂_i0 A0^-1|_ww
+        for cj in 1..=nj {
+            let corr = &left * k_hat.block(0, cj);
+            let kij = k_hat.block(ci, cj);
+            for j in 0..nw {
+                for i in 0..nw {
+                    kjc[((ci - 1) * n + i, (cj - 1) * n + j)] += kij[(i, j)] - corr[(i, j)];
+                }
+            }
+        }
+    }
+
+    // (31) made standard with M = L L^T, L_J = blockdiag(h L).
+    let llt = coords.mass.llt(Side::Lower).map_err(|_| JpError::singular("mass matrix (not positive definite)"))?;
+    let l = llt.L().to_owned();
+    let h_of = |c: usize| (c / 2 + 1) as f64; // block c = coefficient c + 1
+    // B = L_J^-1 K_JC
+    for c in 0..nj {
+        let mut stripe = kjc.as_mut().submatrix_mut(c * n, 0, n, nj * n);
+        l.as_ref().solve_lower_triangular_in_place(stripe.as_mut());
+        stripe *= faer::Scale(1.0 / h_of(c));
+    }
+    // A = (L_J^-1 B^T)^T
+    let mut bt = kjc.transpose().to_owned();
+    drop(kjc);
+    for c in 0..nj {
+        let mut stripe = bt.as_mut().submatrix_mut(c * n, 0, n, nj * n);
+        l.as_ref().solve_lower_triangular_in_place(stripe.as_mut());
+        stripe *= faer::Scale(1.0 / h_of(c));
+    }
+    let a = bt.transpose().to_owned();
+    drop(bt);
+    let evd = a.eigen().map_err(|e| JpError::Eigen { what: format!("eigen of the condensed JP problem (31): {e:?}") })?;
+    let s = evd.S();
+    let u = evd.U();
+    let dim = nj * n;
+
+    // Selection in the band, then the nearest outside.
+    let freq: Vec<f64> = (0..dim).map(|k| s[k].re.max(0.0).sqrt()).collect();
+    let mut keep: Vec<usize> = (0..dim).filter(|&k| freq[k] >= lo && freq[k] <= hi).collect();
+    let mut outside: Vec<(f64, usize)> = (0..dim)
+        .filter(|&k| !(freq[k] >= lo && freq[k] <= hi))
+        .map(|k| ((lo - freq[k]).max(freq[k] - hi), k))
+        .collect();
+    outside.sort_by(|x, y| x.0.total_cmp(&y.0));
+    keep.extend(outside.iter().take(opts.extra_outside).map(|&(_, k)| k));
+    keep.sort_by(|&x, &y| s[x].re.total_cmp(&s[y].re));
+
+    // v = L_J^-T u for the kept eigenvectors (real and imaginary parts separately).
+    let m = keep.len();
+    let mut v_re = Mat::<f64>::zeros(dim, m);
+    let mut v_im = Mat::<f64>::zeros(dim, m);
+    for (col, &k) in keep.iter().enumerate() {
+        for i in 0..dim {
+            v_re[(i, col)] = u[(i, k)].re;
+            v_im[(i, col)] = u[(i, k)].im;
+        }
+    }
+    let lt = l.transpose();
+    for c in 0..nj {
+        for v in [&mut v_re, &mut v_im] {
+            let mut stripe = v.as_mut().submatrix_mut(c * n, 0, n, m);
+            lt.solve_upper_triangular_in_place(stripe.as_mut());
+            stripe *= faer::Scale(1.0 / h_of(c));
+        }
+    }
+    for col in 0..m {
+        let norm = (col_norm(&v_re, col).powi(2) + col_norm(&v_im, col).powi(2)).sqrt();
+        if norm > 0.0 {
+            for i in 0..dim {
+                v_re[(i, col)] /= norm;
+                v_im[(i, col)] /= norm;
+            }
+        }
+    }
+
+    // (33): per-harmonic columns.
+    let mut phi = Vec::with_capacity(hh + 1);
+    phi.push(Mat::zeros(n, 0));
+    for h in 1..=hh {
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        for col in 0..m {
+            for v in [&v_re, &v_im] {
+                for c in [2 * h - 2, 2 * h - 1] {
+                    let part: Vec<f64> = (0..n).map(|i| v[(c * n + i, col)]).collect();
+                    let norm = crate::linalg::norm2(&part);
+                    if norm > PART_FLOOR {
+                        cols.push(part.iter().map(|x| x / norm).collect());
+                    }
+                }
+            }
+        }
+        phi.push(stack_columns(n, &cols));
+    }
+
+    // (35): static columns. Coupling columns below round-off of `A_0^-1 K̂` are dropped
+    // (in full stick `K̂_0c = 0` for c >= 1).
+    let coupling_floor = PART_FLOOR * sol.as_ref().submatrix(0, 0, n, nw).norm_l2() * k_hat.k_hat.norm_max();
+    let mut cols0: Vec<Vec<f64>> = Vec::new();
+    for h in 1..=hh {
+        for c in [2 * h - 1, 2 * h] {
+            let k0c = k_hat.block(0, c);
+            for j in 0..phi[h].ncols() {
+                let phi_w = phi[h].as_ref().submatrix(0, j, nw, 1);
+                let f = k0c * phi_w; // n_w x 1
+                let x = sol.as_ref().submatrix(0, 0, n, nw) * &f;
+                let x: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+                if crate::linalg::norm2(&x) > coupling_floor {
+                    cols0.push(x);
+                }
+            }
+        }
+    }
+    cols0.push((0..n).map(|i| sol[(i, nw)]).collect());
+    cols0.push((0..n).map(|i| sol[(i, nw + 1)]).collect());
+    let cols0: Vec<Vec<f64>> = cols0
+        .into_iter()
+        .filter_map(|c| {
+            let norm = crate::linalg::norm2(&c);
+            (norm > 0.0).then(|| c.iter().map(|x| x / norm).collect())
+        })
+        .collect();
+    phi[0] = stack_columns(n, &cols0);
+
+    let eigenvalues = keep.iter().map(|&k| (s[k].re, s[k].im)).collect();
+    Ok(JpModes { eigenvalues, phi })
+}

@@ -1,0 +1,351 @@
+//! Prediction of the boundary conditions (method.md §7, paper §3.3-3.4).
+//!
+//! The contact stiffness is sampled along a generating shape instead of a full-order solution:
+//! `q_0` = the nonlinear static solution under `f_E^0` (with contacts), `q_1 = p̂ (φ_c, φ_s)`
+//! (cos and sin parts of the shape), other harmonics zero, for `p̂` between
+//! - `p̂_min`, the largest amplitude with every contact stuck over the whole cycle (bisection);
+//! - `p̂_max`, for the stuck mode the linear estimate `|(D_1 + K̂_ST)^-1 f_E^1| / |Φ_ST|` at the
+//!   stuck resonance; for a given shape (a reduced solution's first harmonic, (39))
+//!   [`GIVEN_SHAPE_P_MAX`] times the shape; or a user value.
+//!
+//! `p̂` is oversampled (default 100 values, logarithmic spacing — slip spreads over the contact
+//! over decades of amplitude, so log spacing meets more distinct patterns; linear spacing is an
+//! option, and is used when `p̂_min = 0`), each sample's contact-state pattern (state of every
+//! contact at every AFT time sample) is recorded, duplicates are dropped, and the JP modes of
+//! the distinct patterns are stacked per harmonic (36) and conditioned (38).
+
+use super::basis::JpBasis;
+use super::modes::{jp_modes, JpModes, ModeOptions};
+use super::{lu_solve, ContactJacobian};
+use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
+use crate::contact::ContactState;
+use crate::error::{JpError, Result};
+use crate::hbm::default_nt;
+use crate::linalg::norm2;
+use crate::model::ContactCoordinates;
+use faer::{Mat, Side};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+
+/// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
+pub const GIVEN_SHAPE_P_MAX: f64 = 1.25;
+
+/// Spacing of the `p̂` samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Spacing {
+    /// Geometric between `p̂_min` and `p̂_max` (linear if `p̂_min = 0`).
+    Log,
+    /// Uniform between `p̂_min` and `p̂_max`.
+    Linear,
+}
+
+/// The shape along which the contacts are excited.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum GeneratingShape {
+    /// The stuck linear mode (of `K` + stuck contact springs) nearest the band centre, as the
+    /// cos part, unit length; static part the nonlinear static solution.
+    StuckMode,
+    /// A given first harmonic (cos and sin parts, z-coordinates, length `n`), e.g. a reduced
+    /// solution's (39); optionally with its static part (else the static solution is used).
+    Given { static_part: Option<Vec<f64>>, cos: Vec<f64>, sin: Vec<f64> },
+}
+
+/// Settings of the prediction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PredictionOptions {
+    /// Highest harmonic `H`.
+    pub harmonics: usize,
+    /// AFT samples (`None`: [`default_nt`]).
+    pub nt: Option<usize>,
+    /// Band and mode selection of (31).
+    pub modes: ModeOptions,
+    /// Conditioning ratio of (38).
+    pub gamma: f64,
+    /// Number of `p̂` samples (default 100).
+    pub n_samples: usize,
+    /// Spacing of the samples (default [`Spacing::Log`]).
+    pub spacing: Spacing,
+    /// User value of `p̂_max` (else the estimate described in the module doc).
+    pub p_max: Option<f64>,
+    /// Generating shape (default the stuck mode).
+    pub shape: GeneratingShape,
+}
+
+impl PredictionOptions {
+    /// Defaults for a band `[omega_lo, omega_hi]` (rad/s): `H = 1`, stuck mode, 100 log-spaced
+    /// samples, `gamma = 1e3`, no extra modes.
+    pub fn new(band: (f64, f64)) -> Self {
+        PredictionOptions {
+            harmonics: 1,
+            nt: None,
+            modes: ModeOptions { band, extra_outside: 0 },
+            gamma: 1e3,
+            n_samples: 100,
+            spacing: Spacing::Log,
+            p_max: None,
+            shape: GeneratingShape::StuckMode,
+        }
+    }
+}
+
+/// What the prediction found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PredictionReport {
+    /// Stuck resonance (rad/s), for [`GeneratingShape::StuckMode`].
+    pub omega_stuck: Option<f64>,
+    pub p_min: f64,
+    pub p_max: f64,
+    pub n_samples: usize,
+    /// Number of distinct contact-state patterns (boundary conditions) used.
+    pub n_patterns: usize,
+    /// `p̂` of the first sample of each distinct pattern.
+    pub pattern_amplitudes: Vec<f64>,
+    /// The nonlinear static solution (z-coordinates).
+    pub static_solution: Vec<f64>,
+}
+
+/// The stuck linear mode nearest the centre of `band`: `(omega_ST, Φ_ST)`, `Φ_ST` of unit
+/// Euclidean length in z-coordinates.
+///
+/// # Errors
+/// [`JpError::SingularMatrix`] if `M` is not positive definite, [`JpError::Eigen`] on failure.
+pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64, Vec<f64>)> {
+    let n = coords.n_dof;
+    let k = stuck_stiffness(coords);
+    let l = coords.mass.llt(Side::Lower).map_err(|_| JpError::singular("mass matrix (not positive definite)"))?.L().to_owned();
+    let mut a = k;
+    l.as_ref().solve_lower_triangular_in_place(a.as_mut());
+    let mut at = a.transpose().to_owned();
+    l.as_ref().solve_lower_triangular_in_place(at.as_mut());
+    let sym = Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
+    let evd = sym.self_adjoint_eigen(Side::Lower).map_err(|e| JpError::Eigen { what: format!("stuck modes: {e:?}") })?;
+    let s = evd.S().column_vector();
+    let centre = 0.5 * (band.0 + band.1);
+    let best = (0..n)
+        .min_by(|&x, &y| (s[x].max(0.0).sqrt() - centre).abs().total_cmp(&(s[y].max(0.0).sqrt() - centre).abs()))
+        .ok_or_else(|| JpError::Eigen { what: "empty model".into() })?;
+    let mut v = evd.U().subcols(best, 1).to_owned();
+    l.transpose().solve_upper_triangular_in_place(v.as_mut());
+    let mut phi: Vec<f64> = (0..n).map(|i| v[(i, 0)]).collect();
+    let nrm = norm2(&phi);
+    phi.iter_mut().for_each(|x| *x /= nrm);
+    Ok((s[best].max(0.0).sqrt(), phi))
+}
+
+/// `K` with the stuck contact stiffness added on the contact coordinates.
+fn stuck_stiffness(coords: &ContactCoordinates) -> Mat<f64> {
+    let mut k = coords.stiffness.clone();
+    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
+        for (i, ks) in law.stuck_stiffness().into_iter().enumerate() {
+            k[(off + i, off + i)] += ks;
+        }
+    }
+    k
+}
+
+/// Harmonic-major contact displacement with static part `q0` and first harmonic `(c, s)`.
+fn contact_w(nw: usize, harmonics: usize, q0: &[f64], c: &[f64], s: &[f64], p: f64) -> Vec<f64> {
+    let mut w = vec![0.0; nw * (2 * harmonics + 1)];
+    w[..nw].copy_from_slice(&q0[..nw]);
+    for i in 0..nw {
+        w[nw + i] = p * c[i];
+        w[2 * nw + i] = p * s[i];
+    }
+    w
+}
+
+fn eval(coords: &ContactCoordinates, plan: &AftPlan, w: &[f64], jac: bool, cycles: bool) -> ContactForces {
+    let mut out = ContactForces::default();
+    evaluate_contacts(plan, &coords.laws, &coords.offsets, coords.n_w, w, jac, cycles, &mut out);
+    out
+}
+
+/// The nonlinear static solution under `f_E^0` with contacts (zero dynamic part): Newton on
+/// `K q_0 - f_E^0 + [F_0(w_0); 0] = 0` with Jacobian `K + K̂_00`, from the stuck linear
+/// solution, with step halving on the residual norm.
+///
+/// # Errors
+/// [`JpError::SingularMatrix`], [`JpError::NoConvergence`].
+pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Vec<f64>> {
+    let n = coords.n_dof;
+    let nw = coords.n_w;
+    let hh = plan.harmonics();
+    let f0 = Mat::from_fn(n, 1, |i, _| coords.static_force[i]);
+    let x = lu_solve("K + stuck contact stiffness", &stuck_stiffness(coords), &f0)?;
+    let mut q: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+    let zeros = vec![0.0; nw];
+    let residual = |q: &[f64], jac: bool| -> (Vec<f64>, ContactForces) {
+        let forces = eval(coords, plan, &contact_w(nw, hh, q, &zeros, &zeros, 0.0), jac, false);
+        let mut r: Vec<f64> = (0..n)
+            .map(|i| (0..n).map(|j| coords.stiffness[(i, j)] * q[j]).sum::<f64>() - coords.static_force[i])
+            .collect();
+        for i in 0..nw {
+            r[i] += forces.force[i];
+        }
+        (r, forces)
+    };
+    let scale = norm2(&coords.static_force).max(f64::MIN_POSITIVE);
+    let (mut r, mut forces) = residual(&q, true);
+    let mut rn = norm2(&r);
+    for _ in 0..60 {
+        if rn <= 1e-11 * scale {
+            return Ok(q);
+        }
+        let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &forces, &contact_w(nw, hh, &q, &zeros, &zeros, 0.0))?;
+        let mut a = coords.stiffness.clone();
+        for j in 0..nw {
+            for i in 0..nw {
+                a[(i, j)] += kj.k_hat[(i, j)];
+            }
+        }
+        let rm = Mat::from_fn(n, 1, |i, _| r[i]);
+        let dx = lu_solve("K + K̂_00 (static Newton)", &a, &rm)?;
+        let mut t = 1.0;
+        loop {
+            let trial: Vec<f64> = (0..n).map(|i| q[i] - t * dx[(i, 0)]).collect();
+            let (rt, ft) = residual(&trial, true);
+            let rtn = norm2(&rt);
+            if rtn < rn || t < 1e-6 {
+                q = trial;
+                r = rt;
+                forces = ft;
+                rn = rtn;
+                break;
+            }
+            t *= 0.5;
+        }
+    }
+    if rn <= 1e-8 * scale {
+        return Ok(q);
+    }
+    Err(JpError::NoConvergence { what: "static solution with contacts".into(), iterations: 60, residual: rn / scale })
+}
+
+/// Linear estimate `|(D_1 + K̂_ST)^-1 f_E^1|` at `omega` (cos and sin parts together).
+fn linear_response_norm(coords: &ContactCoordinates, omega: f64) -> Result<f64> {
+    let n = coords.n_dof;
+    let k = stuck_stiffness(coords);
+    let (fc, fs) = coords
+        .harmonic_force
+        .first()
+        .ok_or_else(|| JpError::invalid("excitation", "no first-harmonic force"))?;
+    let mut a = Mat::<f64>::zeros(2 * n, 2 * n);
+    for j in 0..n {
+        for i in 0..n {
+            let re = k[(i, j)] - omega * omega * coords.mass[(i, j)];
+            let im = omega * coords.damping[(i, j)];
+            a[(i, j)] = re;
+            a[(i, n + j)] = im;
+            a[(n + i, j)] = -im;
+            a[(n + i, n + j)] = re;
+        }
+    }
+    let b = Mat::from_fn(2 * n, 1, |i, _| if i < n { fc[i] } else { fs[i - n] });
+    let x = lu_solve("D_1 + K̂_ST at the stuck resonance", &a, &b)?;
+    Ok(x.norm_l2())
+}
+
+/// True when every contact sticks at every time sample.
+fn all_stuck(forces: &ContactForces) -> bool {
+    forces.cycles.iter().all(|c| c.states.iter().all(|&s| s == ContactState::Stick))
+}
+
+fn pattern(forces: &ContactForces) -> Vec<u8> {
+    forces.cycles.iter().flat_map(|c| c.states.iter().map(|&s| s as u8)).collect()
+}
+
+/// Predicts a JP basis (method.md §7-8) without any full-order solution.
+///
+/// # Errors
+/// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
+pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
+    let n = coords.n_dof;
+    let nw = coords.n_w;
+    let hh = opts.harmonics;
+    if hh == 0 || coords.harmonic_force.len() < hh {
+        return Err(JpError::invalid("PredictionOptions.harmonics", format!("must be in 1..={}", coords.harmonic_force.len())));
+    }
+    if opts.n_samples == 0 {
+        return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
+    }
+    let plan = AftPlan::new(hh, opts.nt.unwrap_or_else(|| default_nt(hh)))?;
+    let q_static = static_solution(coords, &plan)?;
+    let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
+        GeneratingShape::StuckMode => {
+            let (w_st, phi) = stuck_mode(coords, opts.modes.band)?;
+            let p_est = linear_response_norm(coords, w_st)? / norm2(&phi);
+            (Some(w_st), q_static.clone(), phi, vec![0.0; n], p_est)
+        }
+        GeneratingShape::Given { static_part, cos, sin } => {
+            if cos.len() != n || sin.len() != n {
+                return Err(JpError::bad_size("generating shape", n, cos.len().min(sin.len())));
+            }
+            let q0 = match static_part {
+                Some(q) if q.len() == n => q.clone(),
+                Some(q) => return Err(JpError::bad_size("generating shape static part", n, q.len())),
+                None => q_static.clone(),
+            };
+            (None, q0, cos.clone(), sin.clone(), GIVEN_SHAPE_P_MAX)
+        }
+    };
+    let p_max = opts.p_max.unwrap_or(p_est);
+    if !(p_max.is_finite() && p_max > 0.0) {
+        return Err(JpError::invalid("p_max", format!("must be finite and > 0, got {p_max}")));
+    }
+    let at = |p: f64, jac: bool| eval(coords, &plan, &contact_w(nw, hh, &q0, &c, &s, p), jac, true);
+
+    // p̂_min by bisection on "all stuck".
+    let p_min = if all_stuck(&at(p_max, false)) {
+        p_max
+    } else if !all_stuck(&at(0.0, false)) {
+        0.0
+    } else {
+        let (mut lo, mut hi) = (0.0, p_max);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if all_stuck(&at(mid, false)) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= 1e-6 * hi {
+                break;
+            }
+        }
+        lo
+    };
+    let ns = opts.n_samples;
+    let samples: Vec<f64> = (0..ns)
+        .map(|k| {
+            let t = if ns == 1 { 1.0 } else { k as f64 / (ns - 1) as f64 };
+            match opts.spacing {
+                Spacing::Log if p_min > 0.0 => p_min * (p_max / p_min).powf(t),
+                _ => p_min + t * (p_max - p_min),
+            }
+        })
+        .collect();
+
+    // Distinct patterns and their boundary conditions.
+    let mut seen = HashSet::new();
+    let mut chosen: Vec<(f64, ContactJacobian)> = Vec::new();
+    for &p in &samples {
+        let forces = at(p, true);
+        if seen.insert(pattern(&forces)) {
+            let w = contact_w(nw, hh, &q0, &c, &s, p);
+            chosen.push((p, ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &forces, &w)?));
+        }
+    }
+    let modes: Vec<JpModes> = chosen.par_iter().map(|(_, kj)| jp_modes(coords, kj, &opts.modes)).collect::<Result<_>>()?;
+    let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?;
+    let report = PredictionReport {
+        omega_stuck,
+        p_min,
+        p_max,
+        n_samples: ns,
+        n_patterns: chosen.len(),
+        pattern_amplitudes: chosen.iter().map(|(p, _)| *p).collect(),
+        static_solution: q_static,
+    };
+    Ok((basis, report))
+}

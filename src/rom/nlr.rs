@@ -1,0 +1,193 @@
+//! Nonlinear-DoF reduction NLR (method.md §9, paper (21)-(26)): `q_N,h = Φ_N,h s_h` on the
+//! condensed system of §5 ([`CondensedSystem`]), with `Φ_N,h` the contact rows of the JP basis,
+//! orthonormalised. The linear DoFs stay exact (condensation); per frequency the reduced
+//! dynamic stiffness `Φ_N^T H_h(omega) Φ_N` costs one condensation of `D_h` (a factorisation
+//! of `D_h,LL`), which is what makes NLR slower per iteration than FR.
+
+use super::ReducedModel;
+use crate::condensation::CondensedSystem;
+use crate::contact::ContactLaw;
+use crate::error::{check_finite, JpError, Result};
+use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
+use crate::jp::JpBasis;
+use faer::Mat;
+
+/// Relative singular-value floor when orthonormalising the contact rows of a basis.
+pub const CONTACT_ROWS_TOLERANCE: f64 = 1e-10;
+
+/// The NLR reduced model: a [`HarmonicSystem`] with `s_h` unknowns per harmonic.
+#[derive(Clone, Debug)]
+pub struct NlrRom {
+    condensed: CondensedSystem,
+    layout: HarmonicLayout,
+    /// Orthonormal `Φ_N,h` (`n_w x s_h`).
+    phi_n: Vec<Mat<f64>>,
+}
+
+/// Orthonormal basis of the columns of `a` (thin SVD, singular values above `tol * s_max`).
+fn orthonormal_columns(a: &Mat<f64>, tol: f64) -> Result<Mat<f64>> {
+    if a.ncols() == 0 {
+        return Ok(Mat::zeros(a.nrows(), 0));
+    }
+    let svd = a.thin_svd().map_err(|e| JpError::Eigen { what: format!("SVD of the contact rows: {e:?}") })?;
+    let s = svd.S().column_vector();
+    let smax = if s.nrows() > 0 { s[0] } else { 0.0 };
+    let keep = (0..s.nrows()).take_while(|&i| smax > 0.0 && s[i] > tol * smax).count();
+    Ok(svd.U().subcols(0, keep).to_owned())
+}
+
+impl NlrRom {
+    /// Builds the NLR model of `condensed` from the contact rows of `basis`.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if the basis does not match the model; [`JpError::InvalidValue`] if
+    /// the basis has more harmonics than the condensed system or no first-harmonic column.
+    pub fn new(condensed: &CondensedSystem, basis: &JpBasis) -> Result<Self> {
+        let coords = condensed.coordinates();
+        let hh = basis.harmonics();
+        if basis.n_dof != coords.n_dof || basis.n_w != coords.n_w {
+            return Err(JpError::bad_size("JP basis (rows)", coords.n_dof, basis.n_dof));
+        }
+        if condensed.layout().harmonics != hh {
+            return Err(JpError::invalid("JP basis", format!("has H = {hh}, condensed system H = {}", condensed.layout().harmonics)));
+        }
+        let nw = coords.n_w;
+        let phi_n: Vec<Mat<f64>> = basis
+            .phi
+            .iter()
+            .map(|p| orthonormal_columns(&p.as_ref().subrows(0, nw).to_owned(), CONTACT_ROWS_TOLERANCE))
+            .collect::<Result<_>>()?;
+        if phi_n[1].ncols() == 0 {
+            return Err(JpError::invalid("JP basis", "no first-harmonic column on the contact coordinates"));
+        }
+        let layout = HarmonicLayout::new(phi_n.iter().map(|p| p.ncols()).collect());
+        Ok(NlrRom { condensed: condensed.clone(), layout, phi_n })
+    }
+
+    /// Orthonormal contact-row bases `Φ_N,h`.
+    pub fn contact_basis(&self) -> &[Mat<f64>] {
+        &self.phi_n
+    }
+
+    fn check_z(&self, z: &[f64]) -> Result<()> {
+        if z.len() != self.layout.total() {
+            return Err(JpError::bad_size("reduced unknowns s", self.layout.total(), z.len()));
+        }
+        check_finite("reduced unknowns s", z)
+    }
+
+    /// Condensed-system unknowns `q_N = Φ_N s` (layout of the condensed system).
+    pub fn condensed_unknowns(&self, z: &[f64]) -> Result<Vec<f64>> {
+        self.check_z(z)?;
+        let nw = self.condensed.coordinates().n_w;
+        let hh = self.layout.harmonics;
+        let mut q = vec![0.0; nw * (2 * hh + 1)];
+        for k in 0..2 * hh + 1 {
+            let h = (k + 1) / 2;
+            let (o, len) = self.layout.coeff_range(k);
+            let v = mat_vec(&self.phi_n[h], &z[o..o + len]);
+            q[k * nw..(k + 1) * nw].copy_from_slice(&v);
+        }
+        Ok(q)
+    }
+}
+
+fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; a.nrows()];
+    for (j, &x) in v.iter().enumerate() {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o += a[(i, j)] * x;
+        }
+    }
+    out
+}
+
+fn mat_t_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
+    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)] * v[i]).sum()).collect()
+}
+
+impl HarmonicSystem for NlrRom {
+    fn layout(&self) -> &HarmonicLayout {
+        &self.layout
+    }
+    fn contact_laws(&self) -> &[ContactLaw] {
+        self.condensed.contact_laws()
+    }
+    fn contact_offsets(&self) -> &[usize] {
+        self.condensed.contact_offsets()
+    }
+    fn n_contact_coords(&self) -> usize {
+        self.condensed.n_contact_coords()
+    }
+    fn contact_map(&self, h: usize) -> ContactMap<'_> {
+        ContactMap::Dense(self.phi_n[h].as_ref())
+    }
+    fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        let full = self.condensed.linear_part(omega)?;
+        let p0 = &self.phi_n[0];
+        let mut lin = LinearPart {
+            d0: p0.transpose() * &full.d0 * p0,
+            f0: mat_t_vec(p0, &full.f0),
+            dh_re: Vec::new(),
+            dh_im: Vec::new(),
+            fh_cos: Vec::new(),
+            fh_sin: Vec::new(),
+        };
+        for h in 1..=self.layout.harmonics {
+            let p = &self.phi_n[h];
+            lin.dh_re.push(p.transpose() * &full.dh_re[h - 1] * p);
+            lin.dh_im.push(p.transpose() * &full.dh_im[h - 1] * p);
+            lin.fh_cos.push(mat_t_vec(p, &full.fh_cos[h - 1]));
+            lin.fh_sin.push(mat_t_vec(p, &full.fh_sin[h - 1]));
+        }
+        Ok(lin)
+    }
+    fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+        let q = self.condensed_unknowns(z)?;
+        self.condensed.output_harmonics(omega, &q)
+    }
+    fn n_outputs(&self) -> usize {
+        self.condensed.n_outputs()
+    }
+}
+
+impl ReducedModel for NlrRom {
+    fn full_size(&self) -> usize {
+        self.condensed.coordinates().n_w
+    }
+    /// `f*_C^h = H_h Φ_N,h s_h - g_h` on the contact coordinates (the NLR form of (40)).
+    fn implied_contact_force(&self, omega: f64, z: &[f64]) -> Result<Vec<Vec<f64>>> {
+        let q = self.condensed_unknowns(z)?;
+        let nw = self.full_size();
+        let full = self.condensed.linear_part(omega)?;
+        let mut out = Vec::with_capacity(2 * self.layout.harmonics + 1);
+        let mut f0 = mat_vec(&full.d0, &q[..nw]);
+        for (f, g) in f0.iter_mut().zip(&full.f0) {
+            *f -= g;
+        }
+        out.push(f0);
+        for h in 1..=self.layout.harmonics {
+            let (qc, qs) = (&q[(2 * h - 1) * nw..2 * h * nw], &q[2 * h * nw..(2 * h + 1) * nw]);
+            let (re, im) = (&full.dh_re[h - 1], &full.dh_im[h - 1]);
+            let (rc, is) = (mat_vec(re, qc), mat_vec(im, qs));
+            let (ic, rs) = (mat_vec(im, qc), mat_vec(re, qs));
+            out.push((0..nw).map(|i| rc[i] + is[i] - full.fh_cos[h - 1][i]).collect());
+            out.push((0..nw).map(|i| -ic[i] + rs[i] - full.fh_sin[h - 1][i]).collect());
+        }
+        Ok(out)
+    }
+    /// All z-coordinates, recovered through the condensation (13).
+    fn full_coefficients(&self, omega: f64, z: &[f64]) -> Result<Vec<Vec<f64>>> {
+        let q = self.condensed_unknowns(z)?;
+        let nw = self.full_size();
+        let mut out = Vec::new();
+        let (c0, _) = self.condensed.recover(omega, 0, &q[..nw], &[])?;
+        out.push(c0);
+        for h in 1..=self.layout.harmonics {
+            let (c, s) = self.condensed.recover(omega, h, &q[(2 * h - 1) * nw..2 * h * nw], &q[2 * h * nw..(2 * h + 1) * nw])?;
+            out.push(c);
+            out.push(s);
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,120 @@
+/* Bad input through the C API: every call returns its documented status with a readable
+ * message, and nothing crashes. Prints "ok <what>: <STATUS>: <message>" per check and
+ * "all checks passed" at the end; exits 1 on the first unexpected status. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "jprom.h"
+
+static int failures = 0;
+
+static void expect(jprom_status got, jprom_status want, const char *what) {
+    const char *msg = jprom_last_error_message();
+    if (got != want) {
+        printf("FAIL %s: got %s, expected %s (%s)\n", what, jprom_status_name((int)got), jprom_status_name((int)want), msg);
+        failures++;
+    } else if (want != JPROM_OK && strlen(msg) < 10) {
+        printf("FAIL %s: message too short: '%s'\n", what, msg);
+        failures++;
+    } else {
+        printf("ok %s: %s: %s\n", what, jprom_status_name((int)got), msg);
+    }
+}
+
+static int stop_at_third(void *user, size_t index, double omega, const double *amps, size_t n) {
+    (void)user; (void)omega; (void)amps; (void)n;
+    return index >= 2;
+}
+
+int main(void) {
+    enum { N = 3 };
+    double m[N * N] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double k[N * N] = {2e4, -1e4, 0, -1e4, 2e4, -1e4, 0, -1e4, 1e4};
+    jprom_model *model = NULL;
+
+    expect(jprom_model_new(N, NULL, k, &model), JPROM_NULL_ARGUMENT, "NULL mass");
+    expect(jprom_model_new(N, m, k, NULL), JPROM_NULL_ARGUMENT, "NULL out");
+    double knan[N * N];
+    memcpy(knan, k, sizeof k);
+    knan[4] = NAN;
+    expect(jprom_model_new(N, m, knan, &model), JPROM_INVALID_VALUE, "NaN in K");
+    double kasym[N * N];
+    memcpy(kasym, k, sizeof k);
+    kasym[1] = 5.0;
+    expect(jprom_model_new(N, m, kasym, &model), JPROM_INVALID_VALUE, "non-symmetric K");
+    if (model != NULL) { printf("FAIL out written on failure\n"); failures++; }
+
+    expect(jprom_model_new(N, m, k, &model), JPROM_OK, "valid model");
+    double f_short[2] = {1, 2};
+    expect(jprom_model_set_static_force(model, f_short, 2), JPROM_BAD_SIZE, "static force of wrong size");
+    const size_t dofs[3] = {0, 1, 2};
+    const size_t dofs_out[3] = {0, 1, 7};
+    const double frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    expect(jprom_model_add_contact_3d(model, dofs, NULL, frame, 1e3, 1e3, 1e3, -0.1, 10.0), JPROM_INVALID_VALUE, "negative mu");
+    expect(jprom_model_add_contact_3d(model, dofs, NULL, frame, -1e3, 1e3, 1e3, 0.3, 10.0), JPROM_INVALID_VALUE, "negative kt1");
+    expect(jprom_model_add_contact_3d(model, dofs_out, NULL, frame, 1e3, 1e3, 1e3, 0.3, 10.0), JPROM_INVALID_VALUE, "DoF out of range");
+    size_t nc = 99;
+    jprom_model_n_contacts(model, &nc);
+    if (nc != 0) { printf("FAIL a rejected contact was kept (%zu)\n", nc); failures++; }
+
+    /* singular K without contact: the free-free static problem has no solution */
+    double k_free[N * N] = {1e4, -1e4, 0, -1e4, 2e4, -1e4, 0, -1e4, 1e4};
+    jprom_model *free_model = NULL;
+    expect(jprom_model_new(N, m, k_free, &free_model), JPROM_OK, "free-free model");
+    jprom_hbm_options opts;
+    jprom_hbm_options_default(&opts);
+    opts.condensed = 0;
+    jprom_solution *sol = NULL;
+    expect(jprom_solve_point(free_model, 50.0, &opts, &sol), JPROM_SINGULAR_MATRIX, "singular K, no contact");
+    jprom_model_free(free_model);
+
+    /* a friction case that cannot converge in one Newton iteration */
+    double f1[N] = {0, 0, 50.0}, f0[N] = {0};
+    expect(jprom_model_add_contact_3d(model, dofs, NULL, frame, 3e4, 3e4, 3e4, 0.3, 10.0), JPROM_OK, "valid contact");
+    expect(jprom_model_set_harmonic_force(model, 1, f1, f0, N), JPROM_OK, "harmonic force");
+    jprom_hbm_options_default(&opts);
+    opts.max_iterations = 1;
+    expect(jprom_solve_point(model, 120.0, &opts, &sol), JPROM_NO_CONVERGENCE, "max_iterations = 1");
+    expect(jprom_solve_point(model, NAN, &opts, &sol), JPROM_INVALID_VALUE, "NaN frequency");
+    jprom_hbm_options_default(&opts);
+    opts.struct_size = 3;
+    expect(jprom_solve_point(model, 120.0, &opts, &sol), JPROM_BAD_SIZE, "options not from jprom_hbm_options_default");
+
+    /* a callback that stops the sweep: CANCELLED, and the points so far are handed out */
+    jprom_hbm_options_default(&opts);
+    jprom_sweep_options sopts;
+    jprom_sweep_options_default(&sopts);
+    sopts.omega_start = 50.0;
+    sopts.omega_end = 200.0;
+    jprom_sweep_result *sweep = NULL;
+    expect(jprom_sweep(model, &opts, &sopts, stop_at_third, NULL, &sweep), JPROM_CANCELLED, "callback stops the sweep");
+    size_t np = 0;
+    expect(jprom_sweep_n_points(sweep, &np), JPROM_OK, "points of a cancelled sweep");
+    if (np != 3) { printf("FAIL cancelled sweep kept %zu points, expected 3\n", np); failures++; }
+    double om;
+    expect(jprom_sweep_point_omega(sweep, 10, &om), JPROM_INVALID_VALUE, "point index out of range");
+    jprom_sweep_free(sweep);
+
+    expect(jprom_model_load_json("/nonexistent/dir/model.json", &model), JPROM_IO, "load from a missing file");
+
+    /* message copy into a short buffer: truncated, NUL-terminated, full length reported */
+    char small[8];
+    size_t written = 0;
+    jprom_status s = jprom_last_error_copy(small, sizeof small, &written);
+    if (s != JPROM_BAD_SIZE || strlen(small) != 7 || written <= 7) { printf("FAIL truncated copy\n"); failures++; }
+    else printf("ok truncated message copy: %s (%zu bytes in full)\n", small, written);
+
+    /* double free and use after free are detected, not undefined behaviour */
+    expect(jprom_model_free(model), JPROM_OK, "free");
+    expect(jprom_model_free(model), JPROM_INVALID_HANDLE, "double free");
+    size_t n = 0;
+    expect(jprom_model_n_dof(model, &n), JPROM_INVALID_HANDLE, "use after free");
+    expect(jprom_model_free(NULL), JPROM_OK, "free(NULL)");
+
+    size_t live = 99;
+    jprom_live_handle_count(&live);
+    if (live != 0) { printf("FAIL %zu handles leaked\n", live); failures++; }
+
+    if (failures == 0) printf("all checks passed\n");
+    return failures != 0;
+}

@@ -1,0 +1,75 @@
+//! Predicted bases (stuck mode as generating shape, no full-order information): the basis grows
+//! with gamma, the error predictor is conservative against the full-order solution, and the
+//! self-correcting sweep runs and reports its corrections.
+
+mod jp_support;
+
+use jp_support::*;
+use jprom::aft::AftPlan;
+use jprom::error_metric::{actual_error, output_error, predicted_error};
+use jprom::hbm::{solve_point, FullSystem, HbmOptions, SweepOptions};
+use jprom::jp::{predict_basis, PredictionOptions};
+use jprom::model::ContactCoordinates;
+use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom};
+
+#[test]
+fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
+    let mut model = chain_model(&ChainOptions::default());
+    model.excitation.dynamic_scale = 0.05;
+    let hopts = HbmOptions::with_harmonics(1);
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
+    let band = (0.9 * freqs[0], 1.02 * freqs[0]);
+    let omega = 0.99 * freqs[0];
+    let full = FullSystem::new(&model, &hopts).unwrap();
+    let mut guess: Option<Vec<f64>> = None;
+    for k in (0..=40).rev() {
+        guess = Some(solve_point(&full, omega * (1.0 - 0.001 * k as f64), guess.as_deref(), &hopts).unwrap().z);
+    }
+    let fo = solve_point(&full, omega, guess.as_deref(), &hopts).unwrap();
+    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let mut last_sizes = vec![0, 0];
+    for gamma in [1e2, 1e3, 1e4] {
+        let mut opts = PredictionOptions::new(band);
+        opts.gamma = gamma;
+        let (basis, report) = predict_basis(&coords, &opts).unwrap();
+        assert!(report.p_min <= report.p_max && report.n_patterns >= 1);
+        assert!(basis.sizes[0] >= last_sizes[0] && basis.sizes[1] >= last_sizes[1], "sizes shrink with gamma");
+        last_sizes = basis.sizes.clone();
+        let fr = FrRom::new(&coords, &basis).unwrap();
+        let s = solve_point(&fr, omega, None, &hopts).unwrap();
+        let es = predicted_error(&fr, &plan, omega, &s.z).unwrap();
+        let ea = actual_error(&fr, &plan, omega, &s.z, &fo).unwrap();
+        println!(
+            "gamma {gamma:e}: sizes {:?} patterns {} p_min {:.3e} p_max {:.3e}; X1 err {:.2e}, e*_1 {:.2e}, e_1 {:.2e}",
+            basis.sizes,
+            report.n_patterns,
+            report.p_min,
+            report.p_max,
+            output_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
+            es[1],
+            ea[1]
+        );
+        assert!(es[1] + 1e-9 >= ea[1], "e*_1 {} < e_1 {}", es[1], ea[1]);
+    }
+}
+
+#[test]
+fn adaptive_sweep_reports_corrections() {
+    let mut model = chain_model(&ChainOptions::default());
+    model.excitation.dynamic_scale = 0.05;
+    let hopts = HbmOptions::with_harmonics(1);
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
+    let band = (0.97 * freqs[0], 1.01 * freqs[0]);
+    let pred = PredictionOptions::new(band);
+    let sopts = SweepOptions::band(band.0, band.1);
+    let out = adaptive_sweep(&model, &pred, &sopts, &hopts, &AdaptiveOptions::default()).unwrap();
+    let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
+    println!("points {} worst e*_1 {worst:.3e} corrections {:?}", out.sweep.points.len(), out.corrections);
+    assert_eq!(out.predicted_errors.len(), out.sweep.points.len());
+    // Either the basis is good, or every allowed correction was tried.
+    assert!(worst <= AdaptiveOptions::default().threshold || out.corrections.len() == AdaptiveOptions::default().max_corrections);
+    for c in &out.corrections {
+        assert!(c.worst_error_before > AdaptiveOptions::default().threshold);
+    }
+}

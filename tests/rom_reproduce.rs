@@ -1,0 +1,99 @@
+//! Acceptance 1 (small model): a JP basis built from a full-order solution's own contact
+//! Jacobian reproduces that solution (FR and NLR), at a stuck and a slipping level, H = 1 and
+//! H = 3, with node-to-ground and node-pair contacts; the error falls as modes are added, and
+//! the error predictor is conservative (e* >= e) on every case.
+
+mod jp_support;
+
+use jp_support::*;
+use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
+use jprom::condensation::CondensedSystem;
+use jprom::error_metric::{actual_error, full_order_contact_displacement, output_error, predicted_error};
+use jprom::hbm::{solve_point, FullSystem, HarmonicSystem, HbmOptions, PointSolution};
+use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
+use jprom::model::{ContactCoordinates, Model};
+use jprom::rom::{FrRom, NlrRom, ReducedModel};
+
+/// Full-order solution near the stuck resonance (a short continuation in omega from below).
+fn full_order(model: &Model, hopts: &HbmOptions, omega: f64) -> PointSolution {
+    let full = FullSystem::new(model, hopts).unwrap();
+    let mut guess: Option<Vec<f64>> = None;
+    for k in (0..=40).rev() {
+        let om = omega * (1.0 - 0.001 * k as f64);
+        let s = solve_point(&full, om, guess.as_deref(), hopts).unwrap();
+        guess = Some(s.z);
+    }
+    solve_point(&full, omega, guess.as_deref(), hopts).unwrap()
+}
+
+struct Case {
+    errors: Vec<(f64, f64, f64, f64)>, // (FR e0, FR e1, NLR e0, NLR e1) per extra setting
+}
+
+fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
+    let mut model = chain_model(&ChainOptions::default());
+    model.excitation.dynamic_scale = scale;
+    let hopts = HbmOptions::with_harmonics(harmonics);
+    let coords = ContactCoordinates::new(&model, harmonics).unwrap();
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
+    let omega = 0.99 * freqs[0];
+    let band = (0.9 * freqs[0], 1.02 * freqs[0]);
+    let fo = full_order(&model, &hopts, omega);
+    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
+    let w = full_order_contact_displacement(&fo, coords.n_w).unwrap();
+    let mut forces = ContactForces::default();
+    evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
+    let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
+    let condensed = CondensedSystem::new(&model, &hopts).unwrap();
+    let mut errors = Vec::new();
+    for &extra in extras {
+        let opts = BasisOptions { modes: ModeOptions { band, extra_outside: extra }, gamma: 1e10 };
+        let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
+        let fr = FrRom::new(&coords, &basis).unwrap();
+        let nlr = NlrRom::new(&condensed, &basis).unwrap();
+        let mut row = Vec::new();
+        for rom in [&fr as &dyn ReducedModel, &nlr as &dyn ReducedModel] {
+            let s = solve_point(rom, omega, None, &hopts).unwrap();
+            row.push(output_error(&s.outputs, &fo.outputs, fo.n_outputs, 0));
+            row.push(output_error(&s.outputs, &fo.outputs, fo.n_outputs, 1));
+            let es = predicted_error(rom, &plan, omega, &s.z).unwrap();
+            let ea = actual_error(rom, &plan, omega, &s.z, &fo).unwrap();
+            // Conservative predictor (with a round-off allowance for exact bases).
+            assert!(es[1] + 1e-9 >= ea[1], "H={harmonics} scale={scale} extra={extra}: e*_1 {} < e_1 {}", es[1], ea[1]);
+            println!(
+                "H={harmonics} scale={scale} extra={extra} sizes {:?}: X0 err {:.2e} X1 err {:.2e} e*_1 {:.2e} e_1 {:.2e}",
+                rom.layout().sizes, row[row.len() - 2], row[row.len() - 1], es[1], ea[1]
+            );
+        }
+        errors.push((row[0], row[1], row[2], row[3]));
+    }
+    Case { errors }
+}
+
+fn check(harmonics: usize, scale: f64) {
+    let n_dof = 24;
+    let all = 2 * harmonics * n_dof; // every eigenpair of (31): a complete basis
+    let case = run(harmonics, scale, &[0, 12, all]);
+    let (fr0, fr1, nl0, nl1) = case.errors[2];
+    for (what, e) in [("FR static", fr0), ("FR first harmonic", fr1), ("NLR static", nl0), ("NLR first harmonic", nl1)] {
+        assert!(e < 1e-3, "H={harmonics} scale={scale}: {what} error {e:.3e} >= 0.1 %");
+    }
+    // Fewer modes, larger error (first harmonic; FR and NLR).
+    assert!(case.errors[1].1 <= case.errors[0].1 * 1.0001);
+    assert!(case.errors[1].3 <= case.errors[0].3 * 1.0001);
+}
+
+#[test]
+fn own_jacobian_basis_reproduces_full_order_stuck_h1() {
+    check(1, 1e-3);
+}
+
+#[test]
+fn own_jacobian_basis_reproduces_full_order_slipping_h1() {
+    check(1, 0.05);
+}
+
+#[test]
+fn own_jacobian_basis_reproduces_full_order_slipping_h3() {
+    check(3, 0.05);
+}
