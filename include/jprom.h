@@ -369,6 +369,10 @@ jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 // Saves all points of a sweep as versioned JSON.
 jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
 
+// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
+// it with `jprom_sweep_free`.
+jprom_status jprom_sweep_load_json(const char *path, jprom_sweep_result **out);
+
 // The message of the last failed jprom call on this thread, NUL-terminated UTF-8; the empty
 // string if the last call succeeded. Never NULL. Owned by the library: valid until the next
 // jprom call on the same thread; copy it to keep it.

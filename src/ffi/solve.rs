@@ -483,3 +483,15 @@ pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result,
         Ok(())
     })
 }
+
+/// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
+/// it with `jprom_sweep_free`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let result: SweepResult = crate::io::load_json("sweep", &path_arg(path, "path")?)?;
+        *out = handle::into_raw(jprom_sweep_result { magic: jprom_sweep_result::MAGIC, result });
+        Ok(())
+    })
+}

@@ -43,6 +43,25 @@ pub fn compile_c(sources: &[&Path], exe: &str, extra: &[&str]) -> PathBuf {
     out
 }
 
+/// Compiles C++ sources with `-Wall -Werror -std=c++17` against the shared library.
+pub fn compile_cpp(sources: &[&Path], exe: &str) -> PathBuf {
+    let lib = lib_dir();
+    let out = scratch(exe);
+    let o = Command::new("g++")
+        .args(["-Wall", "-Werror", "-std=c++17", "-O1"])
+        .arg(format!("-I{}", root().join("include").display()))
+        .args(sources)
+        .arg("-o")
+        .arg(&out)
+        .arg(format!("-L{}", lib.display()))
+        .arg("-ljprom")
+        .arg(format!("-Wl,-rpath,{}", lib.display()))
+        .output()
+        .expect("run g++");
+    assert!(o.status.success(), "g++ failed:\n{}", String::from_utf8_lossy(&o.stderr));
+    out
+}
+
 /// Whether gfortran can be used; under CI (CI=true) its absence is a failure, elsewhere the
 /// Fortran checks are skipped with a notice.
 pub fn have_gfortran() -> bool {

@@ -1,0 +1,143 @@
+// jprom from C++: RAII wrappers over the C API (handles freed by destructors, failed calls
+// turned into exceptions carrying the status and message). Same model and sweep as
+// sweep_example.c, same output table.
+//
+// Build (from the repository root, after `cargo build --lib`):
+//   g++ -Wall -Werror -std=c++17 -Iinclude examples-c/cpp_raii.cpp
+//       -Ltarget/debug -ljprom -Wl,-rpath,$PWD/target/debug -o cpp_raii   (one line)
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "jprom.h"
+
+namespace jp {
+
+// A failed jprom call: its status and the library's message.
+struct Error : std::runtime_error {
+    jprom_status status;
+    Error(jprom_status s, const std::string &what)
+        : std::runtime_error(what + ": " + jprom_status_name(static_cast<int>(s)) + ": " + jprom_last_error_message()),
+          status(s) {}
+};
+
+inline void check(jprom_status s, const char *what) {
+    if (s != JPROM_OK) throw Error(s, what);
+}
+
+// unique_ptr deleters calling the matching *_free (which accepts NULL).
+struct ModelFree { void operator()(jprom_model *p) const { jprom_model_free(p); } };
+struct SweepFree { void operator()(jprom_sweep_result *p) const { jprom_sweep_free(p); } };
+
+class Sweep {
+  public:
+    explicit Sweep(jprom_sweep_result *p) : p_(p) {}
+    size_t size() const {
+        size_t n = 0;
+        check(jprom_sweep_n_points(p_.get(), &n), "jprom_sweep_n_points");
+        return n;
+    }
+    double omega(size_t i) const {
+        double w = 0;
+        check(jprom_sweep_point_omega(p_.get(), i, &w), "jprom_sweep_point_omega");
+        return w;
+    }
+    double amplitude(size_t i, size_t h, size_t output) const {
+        double a = 0;
+        check(jprom_sweep_point_amplitude(p_.get(), i, h, output, &a), "jprom_sweep_point_amplitude");
+        return a;
+    }
+
+  private:
+    std::unique_ptr<jprom_sweep_result, SweepFree> p_;
+};
+
+class Model {
+  public:
+    // Dense column-major n x n mass and stiffness.
+    Model(size_t n, const std::vector<double> &mass, const std::vector<double> &stiffness) {
+        if (mass.size() != n * n || stiffness.size() != n * n) throw std::invalid_argument("matrix sizes");
+        jprom_model *p = nullptr;
+        check(jprom_model_new(n, mass.data(), stiffness.data(), &p), "jprom_model_new");
+        p_.reset(p);
+    }
+    void add_ground_contact(const size_t dofs[3], const double frame[9], double kt1, double kt2, double kn,
+                            double mu, double n0) {
+        check(jprom_model_add_contact_3d(p_.get(), dofs, nullptr, frame, kt1, kt2, kn, mu, n0),
+              "jprom_model_add_contact_3d");
+    }
+    void set_rayleigh_damping(double alpha, double beta) {
+        check(jprom_model_set_rayleigh_damping(p_.get(), alpha, beta), "jprom_model_set_rayleigh_damping");
+    }
+    void set_harmonic_force(size_t h, const std::vector<double> &cos_part, const std::vector<double> &sin_part) {
+        check(jprom_model_set_harmonic_force(p_.get(), h, cos_part.data(), sin_part.data(), cos_part.size()),
+              "jprom_model_set_harmonic_force");
+    }
+    void set_output_dofs(const std::vector<size_t> &dofs) {
+        check(jprom_model_set_output_dofs(p_.get(), dofs.data(), dofs.size()), "jprom_model_set_output_dofs");
+    }
+    // Sweeps without a callback.
+    Sweep sweep(const jprom_hbm_options &opts, const jprom_sweep_options &band) const {
+        jprom_sweep_result *s = nullptr;
+        check(jprom_sweep(p_.get(), &opts, &band, nullptr, nullptr, &s), "jprom_sweep");
+        return Sweep(s);
+    }
+
+  private:
+    std::unique_ptr<jprom_model, ModelFree> p_;
+};
+
+}  // namespace jp
+
+int main() {
+    const size_t n = 6;  // node 0 (x, y, z) then node 1 (x, y, z)
+    std::vector<double> mass(n * n, 0.0), stiffness(n * n, 0.0);
+    for (size_t d = 0; d < 3; ++d) {
+        const size_t a = d, b = 3 + d;
+        mass[a + a * n] = 1.0;
+        mass[b + b * n] = 1.0;
+        stiffness[a + a * n] = 2.0e4;
+        stiffness[b + b * n] = 1.0e4;
+        stiffness[a + b * n] = -1.0e4;
+        stiffness[b + a * n] = -1.0e4;
+    }
+    try {
+        jp::Model model(n, mass, stiffness);
+        const size_t node1[3] = {3, 4, 5};
+        const double frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        model.add_ground_contact(node1, frame, 3.0e4, 3.0e4, 5.0e4, 0.5, 20.0);
+        model.set_rayleigh_damping(0.0, 1.0e-4);
+        model.set_harmonic_force(1, {5.0, 0, 0, 0, 0, 0}, std::vector<double>(n, 0.0));
+        model.set_output_dofs({0, 3});
+
+        jprom_hbm_options opts;
+        jprom_sweep_options band;
+        jp::check(jprom_hbm_options_default(&opts), "jprom_hbm_options_default");
+        jp::check(jprom_sweep_options_default(&band), "jprom_sweep_options_default");
+        opts.harmonics = 3;
+        band.omega_start = 60.0;
+        band.omega_end = 160.0;
+
+        const jp::Sweep sweep = model.sweep(opts, band);
+        std::printf("# jprom %s from C++, %zu points\n", jprom_version(), sweep.size());
+        std::printf("# index omega_rad_s X1_node0_x X1_node1_x\n");
+        for (size_t i = 0; i < sweep.size(); ++i)
+            std::printf("%zu %.10e %.10e %.10e\n", i, sweep.omega(i), sweep.amplitude(i, 1, 0), sweep.amplitude(i, 1, 1));
+
+        // A failed call throws, and every handle made so far is still released.
+        try {
+            sweep.omega(sweep.size());
+            std::fprintf(stderr, "expected an exception\n");
+            return 1;
+        } catch (const jp::Error &e) {
+            if (e.status != JPROM_INVALID_VALUE) return 1;
+            std::printf("# out-of-range point rejected: %s\n", e.what());
+        }
+    } catch (const std::exception &e) {
+        std::fprintf(stderr, "%s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
