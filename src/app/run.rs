@@ -11,9 +11,9 @@ use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
 use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
-use crate::jp::prediction::{predict_basis, PredictionOptions};
+use crate::jp::prediction::PredictionOptions;
 use crate::model::{ContactCoordinates, Damping, Model};
-use crate::rom::{FrRom, NlrRom, ReducedModel};
+use crate::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use faer::c64;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -34,8 +34,11 @@ pub struct SolverRow {
     /// Unknowns per harmonic (`n_0, n_1, ...`).
     pub sizes: Vec<usize>,
     pub points: usize,
+    /// Seconds for the sweep (for ROMs: basis prediction, reduced sweeps and corrections).
     pub sweep_seconds: f64,
     pub basis_seconds: f64,
+    /// Basis corrections made by the self-correcting sweep (ROMs).
+    pub corrections: usize,
     /// Resonance (largest `X1` at the first output) frequency and amplitude.
     pub peak_hz: f64,
     pub peak_x1: f64,
@@ -204,7 +207,12 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let build_seconds = t.elapsed().as_secs_f64();
     let mut rows = Vec::new();
     // max_step so that a straight sweep takes about `points` steps
-    let sopts = SweepOptions { max_step: 1.0 / study.band.points as f64, initial_step: 0.5 / study.band.points as f64, ..SweepOptions::band(band.0, band.1) };
+    let sopts = SweepOptions {
+        max_step: 1.0 / study.band.points as f64,
+        initial_step: 0.5 / study.band.points as f64,
+        max_points: 4 * study.band.points,
+        ..SweepOptions::band(band.0, band.1)
+    };
     let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
     let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
@@ -212,6 +220,8 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     for &level in &study.forcing.levels {
         model.excitation.dynamic_scale = s_st / level;
         let tag = format!("alpha_ST_x{level:e}");
+        // the transformed forces carry the excitation level: rebuild them for this level
+        let coords = ContactCoordinates::new(&model, h)?;
         let mut series = Vec::new();
         let mut energies = Vec::new();
         let condensed = CondensedSystem::new(&model, &hopts)?;
@@ -237,6 +247,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 points: res.points.len(),
                 sweep_seconds: secs,
                 basis_seconds: 0.0,
+                corrections: 0,
                 peak_hz: p.omega / TWO_PI,
                 peak_x1: p.output_amplitude(1, 0),
                 peak_x0: p.output_coeff(0, 0),
@@ -253,31 +264,31 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             energy_series.push((level, energies));
             continue;
         }
-        let t = Instant::now();
-        let bar = progress(1, &format!("JP basis, level {level:e}"), show_progress);
-        let (basis, _report) = predict_basis(&coords, &popts)?;
-        bar.finish_and_clear();
-        let basis_seconds = t.elapsed().as_secs_f64();
-        let mut roms: Vec<(&str, Box<dyn ReducedModel>)> = Vec::new();
-        if study.solvers.fr {
-            roms.push(("FR", Box::new(FrRom::new(&coords, &basis)?)));
-        }
-        if study.solvers.nlr {
-            roms.push(("NLR", Box::new(NlrRom::new(&condensed, &basis)?)));
-        }
-        for (name, rom) in &roms {
-            let bar = progress(study.band.points as u64, &format!("{name} sweep, level {level:e}"), show_progress);
+        let kinds: Vec<(&str, RomKind)> = [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)]
+            .into_iter()
+            .filter(|k| k.2)
+            .map(|k| (k.0, k.1))
+            .collect();
+        for (name, kind) in kinds {
+            // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
+            // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
+            let bar = progress(1, &format!("{name}: basis + sweep, level {level:e}"), show_progress);
+            let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
             let t = Instant::now();
-            let res = sweep(rom.as_ref(), &sopts, &hopts, &mut |p| {
-                bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
-                ControlFlow::Continue(())
-            })?;
+            let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts)?;
             bar.finish_and_clear();
             let secs = t.elapsed().as_secs_f64();
-            let errors: Vec<Vec<f64>> = res.points.iter().map(|p| predicted_error(rom.as_ref(), &plan, p.omega, &p.z)).collect::<Result<_>>()?;
-            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), &res, Some(&errors))?;
-            series.push(Series::line(*name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            let basis = &adaptive.basis;
+            let rom: Box<dyn ReducedModel> = match kind {
+                RomKind::Fr => Box::new(FrRom::new(&coords, basis)?),
+                RomKind::Nlr => Box::new(NlrRom::new(&condensed, basis)?),
+            };
+            let res = &adaptive.sweep;
+            let errors = &adaptive.predicted_errors;
+            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors))?;
+            series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
+            let basis_seconds = 0.0;
             let mut row = SolverRow {
                 level,
                 solver: name.to_string(),
@@ -285,6 +296,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 points: res.points.len(),
                 sweep_seconds: secs,
                 basis_seconds,
+                corrections: adaptive.corrections.len(),
                 peak_hz: p.omega / TWO_PI,
                 peak_x1: p.output_amplitude(1, 0),
                 peak_x0: p.output_coeff(0, 0),
@@ -313,9 +325,9 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                         .map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs() / total.max(f64::MIN_POSITIVE))
                         .fold(0.0, f64::max),
                 );
-                energies.push(Series::markers(*name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
-                    let label = format!("{name}");
+                    let label = name.to_string();
                     match err_points.iter_mut().find(|(l, _)| *l == label) {
                         Some((_, v)) => v.push((a, ps)),
                         None => err_points.push((label, vec![(a, ps)])),
@@ -376,18 +388,18 @@ pub fn summary_table(s: &RunSummary) -> String {
     );
     out.push_str(&format!(
         "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
-        "a/a_ST", "solver", "n_h", "points", "sweep s", "basis s", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W"
+        "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W"
     ));
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
             r.level,
             r.solver,
             format!("{:?}", r.sizes),
             r.points,
             r.sweep_seconds,
-            r.basis_seconds,
+            r.corrections,
             r.peak_hz,
             r.peak_x1,
             opt(r.error_x1),

@@ -24,6 +24,7 @@
 //! gamma = 1000.0
 //! samples = 100
 //! error_threshold = 0.05
+//! max_corrections = 3
 //!
 //! [solvers]
 //! full_order = true
@@ -153,11 +154,13 @@ pub struct BasisSpec {
     pub gamma: f64,
     pub samples: usize,
     pub error_threshold: f64,
+    /// Most basis corrections of the self-correcting sweep per level and ROM.
+    pub max_corrections: usize,
 }
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05 }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 3 }
     }
 }
 
