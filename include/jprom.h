@@ -84,9 +84,6 @@ typedef enum {
   JPROM_PARSE = 11,
 } jprom_status;
 
-// Isotropic linear elastic material.
-typedef struct Material Material;
-
 // Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
 // Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
 // `jprom_model_clone`; owned by the caller, released with `jprom_model_free`.

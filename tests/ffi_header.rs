@@ -80,5 +80,20 @@ fn header_exports_only_prefixed_names() {
             let name = rest.split_whitespace().next().unwrap();
             assert!(name.starts_with("JPROM_"), "unprefixed macro in the C API: {name} (add it to cbindgen.toml's exclude list)");
         }
+        // every type name the header declares: `typedef struct X X;`, `} X;`, `typedef ... (*X)(`
+        let mut declared: Vec<&str> = Vec::new();
+        if let Some(rest) = line.strip_prefix("typedef struct ") {
+            declared.extend(rest.trim_end_matches(';').split_whitespace());
+        } else if let Some(rest) = line.strip_prefix("} ") {
+            declared.push(rest.trim_end_matches(';').trim());
+        } else if line.starts_with("typedef ") {
+            if let Some(i) = line.find("(*") {
+                declared.push(line[i + 2..].split(')').next().unwrap());
+            }
+        }
+        let identifier = |n: &str| !n.is_empty() && n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        for name in declared.into_iter().filter(|n| identifier(n)) {
+            assert!(name.starts_with("jprom_"), "unprefixed type in the C API: {name} (add it to cbindgen.toml's exclude list)");
+        }
     }
 }
