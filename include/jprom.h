@@ -318,6 +318,27 @@ jprom_status jprom_sweep_point_amplitude(const jprom_sweep_result *sweep,
                                          size_t j,
                                          double *out);
 
+// Copies the output-DoF coefficients of point `index` (`(2H + 1) * n_outputs` values, entry
+// `k * n_outputs + j`, H = `options.harmonics` of the sweep) into `buf` of capacity `len`.
+// `JPROM_BAD_SIZE` if `len` is too small (nothing is written then).
+jprom_status jprom_sweep_point_output_coeffs(const jprom_sweep_result *sweep,
+                                             size_t index,
+                                             double *buf,
+                                             size_t len);
+
+// Energy dissipated per cycle by each contact at point `index` (`n_contacts` values) into
+// `buf` of capacity `len`.
+jprom_status jprom_sweep_point_dissipated_energy(const jprom_sweep_result *sweep,
+                                                 size_t index,
+                                                 double *buf,
+                                                 size_t len);
+
+// Newton iterations and final relative residual of point `index` (either pointer may be NULL).
+jprom_status jprom_sweep_point_convergence(const jprom_sweep_result *sweep,
+                                           size_t index,
+                                           size_t *iterations,
+                                           double *residual);
+
 // Angular frequency of a solution.
 jprom_status jprom_solution_omega(const jprom_solution *solution, double *out);
 

@@ -335,6 +335,30 @@ pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_r
     })
 }
 
+/// Copies the output-DoF coefficients of point `index` (`(2H + 1) * n_outputs` values, entry
+/// `k * n_outputs + j`, H = `options.harmonics` of the sweep) into `buf` of capacity `len`.
+/// `JPROM_BAD_SIZE` if `len` is too small (nothing is written then).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_output_coeffs(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+    ffi_guard!({ copy_output_coeffs(sweep_point(sweep, index)?, buf, len) })
+}
+
+/// Energy dissipated per cycle by each contact at point `index` (`n_contacts` values) into
+/// `buf` of capacity `len`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_dissipated_energy(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+    ffi_guard!({ copy_dissipated_energy(sweep_point(sweep, index)?, buf, len) })
+}
+
+/// Newton iterations and final relative residual of point `index` (either pointer may be NULL).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_convergence(sweep: *const jprom_sweep_result, index: usize, iterations: *mut usize, residual: *mut f64) -> jprom_status {
+    ffi_guard!({
+        write_convergence(sweep_point(sweep, index)?, iterations, residual);
+        Ok(())
+    })
+}
+
 fn amplitude(p: &PointSolution, h: usize, j: usize) -> Result<f64, FfiError> {
     if h > p.layout.harmonics {
         return Err(FfiError::new(JPROM_INVALID_VALUE, format!("harmonic {h} > H = {}", p.layout.harmonics)));
@@ -377,11 +401,15 @@ pub unsafe extern "C" fn jprom_solution_sizes(solution: *const jprom_solution, h
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_output_coeffs(solution: *const jprom_solution, buf: *mut f64, len: usize) -> jprom_status {
     ffi_guard!({
-        let p = &handle::get(solution, "solution")?.point;
-        check_capacity("buf", p.outputs.len(), len)?;
-        slice_out(buf, p.outputs.len(), "buf")?.copy_from_slice(&p.outputs);
-        Ok(())
+        copy_output_coeffs(&handle::get(solution, "solution")?.point, buf, len)
     })
+}
+
+/// Size-checked copy of a point's output coefficients (entry `k * n_outputs + j`).
+unsafe fn copy_output_coeffs(p: &PointSolution, buf: *mut f64, len: usize) -> Result<(), FfiError> {
+    check_capacity("buf", p.outputs.len(), len)?;
+    slice_out(buf, p.outputs.len(), "buf")?.copy_from_slice(&p.outputs);
+    Ok(())
 }
 
 /// Amplitude of harmonic `h` at output `j`.
@@ -398,30 +426,36 @@ pub unsafe extern "C" fn jprom_solution_amplitude(solution: *const jprom_solutio
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_convergence(solution: *const jprom_solution, iterations: *mut usize, residual: *mut f64) -> jprom_status {
     ffi_guard!({
-        let p = &handle::get(solution, "solution")?.point;
-        if let Some(i) = iterations.as_mut() {
-            *i = p.iterations;
-        }
-        if let Some(r) = residual.as_mut() {
-            *r = p.residual_norm;
-        }
+        write_convergence(&handle::get(solution, "solution")?.point, iterations, residual);
         Ok(())
     })
+}
+
+unsafe fn write_convergence(p: &PointSolution, iterations: *mut usize, residual: *mut f64) {
+    if let Some(i) = iterations.as_mut() {
+        *i = p.iterations;
+    }
+    if let Some(r) = residual.as_mut() {
+        *r = p.residual_norm;
+    }
 }
 
 /// Energy dissipated per cycle by each contact (`n_contacts` values) into `buf` of capacity `len`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_dissipated_energy(solution: *const jprom_solution, buf: *mut f64, len: usize) -> jprom_status {
     ffi_guard!({
-        let p = &handle::get(solution, "solution")?.point;
-        let n = p.contact_cycles.len();
-        check_capacity("buf", n, len)?;
-        let out = slice_out(buf, n, "buf")?;
-        for (o, c) in out.iter_mut().zip(&p.contact_cycles) {
-            *o = c.dissipated_energy;
-        }
-        Ok(())
+        copy_dissipated_energy(&handle::get(solution, "solution")?.point, buf, len)
     })
+}
+
+unsafe fn copy_dissipated_energy(p: &PointSolution, buf: *mut f64, len: usize) -> Result<(), FfiError> {
+    let n = p.contact_cycles.len();
+    check_capacity("buf", n, len)?;
+    let out = slice_out(buf, n, "buf")?;
+    for (o, c) in out.iter_mut().zip(&p.contact_cycles) {
+        *o = c.dissipated_energy;
+    }
+    Ok(())
 }
 
 /// Number of AFT time samples per contact in the solution's state record.

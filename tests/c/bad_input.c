@@ -87,12 +87,35 @@ int main(void) {
     sopts.omega_start = 50.0;
     sopts.omega_end = 200.0;
     jprom_sweep_result *sweep = NULL;
+    expect(jprom_model_set_output_dofs(model, dofs, 3), JPROM_OK, "output DoFs");
     expect(jprom_sweep(model, &opts, &sopts, stop_at_third, NULL, &sweep), JPROM_CANCELLED, "callback stops the sweep");
     size_t np = 0;
     expect(jprom_sweep_n_points(sweep, &np), JPROM_OK, "points of a cancelled sweep");
     if (np != 3) { printf("FAIL cancelled sweep kept %zu points, expected 3\n", np); failures++; }
     double om;
     expect(jprom_sweep_point_omega(sweep, 10, &om), JPROM_INVALID_VALUE, "point index out of range");
+    /* per-point coefficients: size-checked copy, consistent with the amplitude accessor */
+    size_t nout = 0;
+    jprom_model_n_outputs(model, &nout);
+    size_t ncoef = (2 * opts.harmonics + 1) * nout;
+    double coeffs[64];
+    if (nout == 0 || ncoef > 64) { printf("FAIL unexpected output count %zu\n", nout); failures++; }
+    else {
+        expect(jprom_sweep_point_output_coeffs(sweep, 1, coeffs, ncoef - 1), JPROM_BAD_SIZE, "coefficient buffer too small");
+        expect(jprom_sweep_point_output_coeffs(sweep, 1, NULL, ncoef), JPROM_NULL_ARGUMENT, "NULL coefficient buffer");
+        expect(jprom_sweep_point_output_coeffs(sweep, 10, coeffs, ncoef), JPROM_INVALID_VALUE, "coefficients of a point out of range");
+        expect(jprom_sweep_point_output_coeffs(sweep, 1, coeffs, ncoef), JPROM_OK, "coefficients of point 1");
+        double a = 0.0, c = coeffs[1 * nout + nout - 1], sn = coeffs[2 * nout + nout - 1];
+        jprom_sweep_point_amplitude(sweep, 1, 1, nout - 1, &a);
+        if (fabs(a - sqrt(c * c + sn * sn)) > 1e-12 * a || a <= 0.0) { printf("FAIL amplitude %g vs coefficients %g %g\n", a, c, sn); failures++; }
+        size_t iters = 0;
+        double res = -1.0, energy[1] = {-1.0};
+        expect(jprom_sweep_point_convergence(sweep, 1, &iters, &res), JPROM_OK, "convergence of point 1");
+        if (!(res >= 0.0 && res < 1e-6)) { printf("FAIL residual %g\n", res); failures++; }
+        expect(jprom_sweep_point_dissipated_energy(sweep, 1, energy, 1), JPROM_OK, "dissipated energy of point 1");
+        if (!(energy[0] >= 0.0)) { printf("FAIL dissipated energy %g\n", energy[0]); failures++; }
+        expect(jprom_sweep_point_dissipated_energy(sweep, 1, energy, 0), JPROM_BAD_SIZE, "energy buffer too small");
+    }
     jprom_sweep_free(sweep);
 
     expect(jprom_model_load_json("/nonexistent/dir/model.json", &model), JPROM_IO, "load from a missing file");
