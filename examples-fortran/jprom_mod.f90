@@ -105,6 +105,13 @@ module jprom_c
       integer(c_size_t), value :: i, h, j
       real(c_double), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_point_output_coeffs(sweep, i, buf, len) &
+        bind(C, name="jprom_sweep_point_output_coeffs")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, len
+      real(c_double), dimension(*), intent(out) :: buf
+    end function
     integer(c_int) function jprom_last_error_copy(buf, len, written) bind(C, name="jprom_last_error_copy")
       import :: c_int, c_size_t, c_char
       character(kind=c_char), dimension(*), intent(out) :: buf
@@ -122,7 +129,7 @@ module jprom
   public :: jprom_hbm_options, jprom_sweep_options, JPROM_OK
   public :: jp_model_new, jp_model_free, jp_add_ground_contact, jp_set_damping, jp_set_first_harmonic_force, &
             jp_set_outputs, jp_default_options, jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_point, &
-            jp_last_error
+            jp_sweep_point_coeffs, jp_last_error
 
 contains
 
@@ -260,5 +267,18 @@ contains
       s = jprom_sweep_point_amplitude(sweep, int(i - 1, c_size_t), 1_c_size_t, int(j - 1, c_size_t), amps(j))
     end do
     jp_sweep_point = int(s)
+  end function
+
+  !> Point i (1-based): every harmonic coefficient at every output. coeffs(j, k + 1) is
+  !> coefficient k (0 static, 2h-1 cos, 2h sin) at output j, so size(coeffs, 1) = n_outputs and
+  !> size(coeffs, 2) = 2H + 1 (the C layout k * n_outputs + j read column-major, no copy).
+  integer function jp_sweep_point_coeffs(sweep, i, coeffs, message)
+    use jprom_c, only: jprom_sweep_point_output_coeffs
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i
+    real(c_double), contiguous, intent(inout) :: coeffs(:, :)
+    character(len=*), intent(inout) :: message
+    jp_sweep_point_coeffs = finish(jprom_sweep_point_output_coeffs(sweep, int(i - 1, c_size_t), coeffs, &
+                                                                   int(size(coeffs), c_size_t)), message)
   end function
 end module jprom

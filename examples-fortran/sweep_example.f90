@@ -4,7 +4,7 @@ program sweep_example
   use jprom
   implicit none
   integer, parameter :: n = 6
-  real(c_double) :: mass(n, n), stiffness(n, n), frame(3, 3), fc(n), fs(n), omega, amps(2)
+  real(c_double) :: mass(n, n), stiffness(n, n), frame(3, 3), fc(n), fs(n), omega, amps(2), coeffs(2, 7)
   type(c_ptr) :: model, sweep
   type(jprom_hbm_options) :: opts
   type(jprom_sweep_options) :: sweep_opts
@@ -38,6 +38,12 @@ program sweep_example
   do i = 1, npts
     if (jp_sweep_point(sweep, i, omega, amps) /= JPROM_OK) call fail('jp_sweep_point')
     write (*, '(i0,3(1x,es17.10e2))') i - 1, omega, amps(1), amps(2)
+    ! the same amplitudes from the full coefficient array: |X1| = sqrt(cos^2 + sin^2)
+    if (jp_sweep_point_coeffs(sweep, i, coeffs, msg) /= JPROM_OK) call fail('jp_sweep_point_coeffs')
+    if (any(abs(hypot(coeffs(:, 2), coeffs(:, 3)) - amps) > 1.0d-12 * maxval(amps))) then
+      msg = 'amplitudes disagree with the coefficients'
+      call fail('jp_sweep_point_coeffs')
+    end if
   end do
   s = jp_sweep_free(sweep)
   s = jp_model_free(model)
