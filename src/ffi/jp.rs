@@ -4,7 +4,7 @@
 use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
 use super::handle::{self, Handle};
 use super::model::jprom_model;
-use super::solve::{hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_sweep_options, jprom_sweep_result, progress_adapter, sweep_options};
+use super::solve::{cancelled_status, hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_sweep_options, jprom_sweep_result, progress_adapter, sweep_options};
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use crate::aft::AftPlan;
@@ -150,11 +150,7 @@ pub unsafe extern "C" fn jprom_rom_sweep(
         *out = jprom_sweep_result::wrap(result, errors);
         Ok(())
     });
-    if status == JPROM_OK && cancelled {
-        super::status::set_last_error("sweep stopped by the progress callback");
-        return JPROM_CANCELLED;
-    }
-    status
+    cancelled_status(status, cancelled)
 }
 
 /// Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a

@@ -227,6 +227,12 @@ pub unsafe extern "C" fn jprom_sweep(
         *out = jprom_sweep_result::wrap(result, Vec::new());
         Ok(())
     });
+    cancelled_status(status, cancelled)
+}
+
+/// A sweep stopped by its callback: `JPROM_CANCELLED` (with a message) in place of `JPROM_OK`;
+/// the sweep handle has been written all the same.
+pub(crate) fn cancelled_status(status: jprom_status, cancelled: bool) -> jprom_status {
     if status == JPROM_OK && cancelled {
         super::status::set_last_error("sweep stopped by the progress callback");
         return JPROM_CANCELLED;
