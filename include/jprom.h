@@ -38,6 +38,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Full-DoF reduced model (FR): `q_h = Φ_h p_h` on all DoFs.
+#define JPROM_ROM_FR 0
+
+// Nonlinear-DoF reduced model (NLR) on the condensed system.
+#define JPROM_ROM_NLR 1
+
 // Largest model size accepted by `jprom_model_new_csc` (the model is stored dense:
 // two `n x n` matrices of doubles).
 #define JPROM_DENSE_MAX_DOF 10000
@@ -83,6 +89,9 @@ typedef enum {
   // A file is malformed (the message gives the line).
   JPROM_PARSE = 11,
 } jprom_status;
+
+// A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
+typedef struct jprom_basis jprom_basis;
 
 // Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
 // Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
@@ -144,6 +153,55 @@ extern "C" {
 // Number of live handles of all kinds in the process (diagnostic, e.g. for leak checks in
 // tests: it returns to its earlier value once everything created has been freed).
 jprom_status jprom_live_handle_count(size_t *out);
+
+// Predicts a JP basis for `model` without any full-order solution: boundary conditions
+// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
+// `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
+// with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
+// AFT samples.
+jprom_status jprom_basis_predict(const jprom_model *model,
+                                 const jprom_hbm_options *options,
+                                 double omega_lo,
+                                 double omega_hi,
+                                 double gamma,
+                                 size_t n_samples,
+                                 jprom_basis **out);
+
+// Releases a basis (NULL is a no-op).
+jprom_status jprom_basis_free(jprom_basis *basis);
+
+// Basis sizes `n_h`, `h = 0..H` (`H + 1` values) into `buf` of capacity `len`; `*harmonics`
+// (may be NULL) receives `H`.
+jprom_status jprom_basis_sizes(const jprom_basis *basis,
+                               size_t *buf,
+                               size_t len,
+                               size_t *harmonics);
+
+// Saves a basis as versioned JSON.
+jprom_status jprom_basis_save_json(const jprom_basis *basis, const char *path);
+
+// Loads a basis saved by `jprom_basis_save_json`.
+jprom_status jprom_basis_load_json(const char *path, jprom_basis **out);
+
+// Sweeps the reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) of `model` on `basis`,
+// like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
+// predictor `e*_h` at every point (`jprom_sweep_point_predicted_error`; above about 0.05
+// for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
+jprom_status jprom_rom_sweep(const jprom_model *model,
+                             const jprom_basis *basis,
+                             int kind,
+                             const jprom_hbm_options *options,
+                             const jprom_sweep_options *sweep_opts,
+                             jprom_progress_fn callback,
+                             void *user_data,
+                             jprom_sweep_result **out);
+
+// Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a
+// full-order sweep, which has none).
+jprom_status jprom_sweep_point_predicted_error(const jprom_sweep_result *sweep,
+                                               size_t index,
+                                               size_t h,
+                                               double *out);
 
 // Creates a model with `n` DoFs from dense, column-major `n x n` mass and stiffness
 // matrices (both symmetric; `M` with positive diagonal). Damping, excitation, contacts and
@@ -388,7 +446,8 @@ jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
 
 // Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
-// it with `jprom_sweep_free`.
+// it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
+// errors (`e*`) are not saved, so a loaded sweep has none.
 jprom_status jprom_sweep_load_json(const char *path, jprom_sweep_result **out);
 
 // The message of the last failed jprom call on this thread, NUL-terminated UTF-8; the empty

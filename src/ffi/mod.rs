@@ -13,10 +13,12 @@
 
 pub(crate) mod guard;
 pub(crate) mod handle;
+pub mod jp;
 pub mod model;
 pub mod solve;
 pub mod status;
 
+pub use jp::*;
 pub use model::*;
 pub use solve::*;
 pub use status::*;

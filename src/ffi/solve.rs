@@ -66,7 +66,15 @@ pub struct jprom_solution {
 #[allow(non_camel_case_types)]
 pub struct jprom_sweep_result {
     magic: u64,
-    result: SweepResult,
+    pub(crate) result: SweepResult,
+    /// `e*_h` per point for reduced sweeps (empty for full-order ones).
+    pub(crate) predicted_errors: Vec<Vec<f64>>,
+}
+
+impl jprom_sweep_result {
+    pub(crate) fn wrap(result: SweepResult, predicted_errors: Vec<Vec<f64>>) -> *mut jprom_sweep_result {
+        handle::into_raw(jprom_sweep_result { magic: Self::MAGIC, result, predicted_errors })
+    }
 }
 
 impl Handle for jprom_solution {
@@ -126,7 +134,7 @@ pub unsafe extern "C" fn jprom_sweep_options_default(out: *mut jprom_sweep_optio
     })
 }
 
-fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError> {
+pub(crate) fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError> {
     if o.struct_size != std::mem::size_of::<jprom_hbm_options>() {
         return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_hbm_options.struct_size: fill the options with jprom_hbm_options_default"));
     }
@@ -141,7 +149,7 @@ fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError> {
     Ok(opts)
 }
 
-fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, FfiError> {
+pub(crate) fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, FfiError> {
     if o.struct_size != std::mem::size_of::<jprom_sweep_options>() {
         return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_sweep_options.struct_size: fill the options with jprom_sweep_options_default"));
     }
@@ -213,34 +221,46 @@ pub unsafe extern "C" fn jprom_sweep(
         let opts = hbm_options(o)?;
         let sopts = sweep_options(so)?;
         let sys = system(m, &opts, o.condensed)?;
-        let mut index = 0usize;
-        let mut amps = Vec::new();
-        let mut on_point = |p: &PointSolution| {
-            let stop = match callback {
-                Some(cb) => {
-                    amps.clear();
-                    amps.extend((0..p.n_outputs).map(|j| if p.layout.harmonics >= 1 { p.output_amplitude(1, j) } else { 0.0 }));
-                    cb(user_data, index, p.omega, amps.as_ptr(), amps.len()) != 0
-                }
-                None => false,
-            };
-            index += 1;
-            if stop {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        };
+        let mut on_point = progress_adapter(callback, user_data);
         let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
         cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = handle::into_raw(jprom_sweep_result { magic: jprom_sweep_result::MAGIC, result });
+        *out = jprom_sweep_result::wrap(result, Vec::new());
         Ok(())
     });
+    cancelled_status(status, cancelled)
+}
+
+/// A sweep stopped by its callback: `JPROM_CANCELLED` (with a message) in place of `JPROM_OK`;
+/// the sweep handle has been written all the same.
+pub(crate) fn cancelled_status(status: jprom_status, cancelled: bool) -> jprom_status {
     if status == JPROM_OK && cancelled {
         super::status::set_last_error("sweep stopped by the progress callback");
         return JPROM_CANCELLED;
     }
     status
+}
+
+/// Adapts the C progress callback to the sweep's `on_point` closure.
+pub(crate) fn progress_adapter(callback: jprom_progress_fn, user_data: *mut c_void) -> impl FnMut(&PointSolution) -> ControlFlow<()> {
+    let mut index = 0usize;
+    let mut amps = Vec::new();
+    move |p: &PointSolution| {
+        let stop = match callback {
+            Some(cb) => {
+                amps.clear();
+                amps.extend((0..p.n_outputs).map(|j| if p.layout.harmonics >= 1 { p.output_amplitude(1, j) } else { 0.0 }));
+                // SAFETY: the caller passed a valid function pointer with this signature.
+                unsafe { cb(user_data, index, p.omega, amps.as_ptr(), amps.len()) != 0 }
+            }
+            None => false,
+        };
+        index += 1;
+        if stop {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
 }
 
 /// Releases a solution (NULL is a no-op).
@@ -519,13 +539,14 @@ pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result,
 }
 
 /// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
-/// it with `jprom_sweep_free`.
+/// it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
+/// errors (`e*`) are not saved, so a loaded sweep has none.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
         let result: SweepResult = crate::io::load_json("sweep", &path_arg(path, "path")?)?;
-        *out = handle::into_raw(jprom_sweep_result { magic: jprom_sweep_result::MAGIC, result });
+        *out = jprom_sweep_result::wrap(result, Vec::new());
         Ok(())
     })
 }
