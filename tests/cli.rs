@@ -46,8 +46,8 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     let f = scratch("small.toml");
     std::fs::write(
         &f,
-        "[model]\nkind = \"blade\"\n[band]\nhz_start = 2150.0\nhz_end = 2170.0\npoints = 30\n\
-         [forcing]\nlevels = [0.1]\n[basis]\ngamma = 1000.0\nsamples = 40\n[solvers]\nfr = false\n",
+        "[model]\nkind = \"blade\"\n[band]\nhz_start = 2140.0\nhz_end = 2190.0\npoints = 30\n\
+         [forcing]\nlevels = [0.1]\n[basis]\ngamma = 1000.0\n[solvers]\nfr = false\n",
     )
     .unwrap();
     let out_dir = scratch("small-out");
