@@ -38,6 +38,25 @@ pub struct ModeOptions {
     /// Number of further eigenpairs, nearest to the band (in `sqrt(Re λ)`), kept as well.
     /// Eigenvalues are counted one by one (a stuck pair counts 2).
     pub extra_outside: usize,
+    /// Add the static-correction vectors of the condensed problem (a jprom extension of (33),
+    /// the mode-acceleration idea of CMS): `K_JC^-1 F_h` for the harmonic forcing `F_h` of each
+    /// loaded harmonic and `K_JC^-1 K̂_J0 A_0^-1 (f_E^0 + g)` for the static load's coupling into
+    /// the harmonics. They carry the quasi-static response of every mode the band leaves out,
+    /// which is what limits the accuracy of an in-band basis away from the resonance peak and
+    /// in the static term. Default `true`.
+    #[serde(default = "default_static_correction")]
+    pub static_correction: bool,
+}
+
+fn default_static_correction() -> bool {
+    true
+}
+
+impl ModeOptions {
+    /// The in-band eigenpairs of `band` with the static correction, nothing outside.
+    pub fn in_band(band: (f64, f64)) -> Self {
+        ModeOptions { band, extra_outside: 0, static_correction: true }
+    }
 }
 
 /// The JP modes of one set of boundary conditions, before conditioning.
@@ -116,6 +135,121 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
         }
     }
 
+    // A singular K_JC (a structure free in some direction once its contacts slip) has no
+    // static correction; the eigenvectors alone then make the basis.
+    let corrections = if opts.static_correction { static_corrections(coords, k_hat, &kjc, &sol).unwrap_or_default() } else { Vec::new() };
+
+    let (eigenvalues, v_re, v_im) = dense_eigenpairs(coords, kjc, hh, opts)?;
+    let m = eigenvalues.len();
+
+    // (33): per-harmonic columns, then those of the static corrections.
+    let mut phi = Vec::with_capacity(hh + 1);
+    phi.push(Mat::zeros(n, 0));
+    for h in 1..=hh {
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        let mut push_part = |part: Vec<f64>| {
+            let norm = crate::linalg::norm2(&part);
+            if norm > PART_FLOOR {
+                cols.push(part.iter().map(|x| x / norm).collect());
+            }
+        };
+        for col in 0..m {
+            for v in [&v_re, &v_im] {
+                for c in [2 * h - 2, 2 * h - 1] {
+                    push_part((0..n).map(|i| v[(c * n + i, col)]).collect());
+                }
+            }
+        }
+        for x in &corrections {
+            for c in [2 * h - 2, 2 * h - 1] {
+                push_part(x[c * n..(c + 1) * n].to_vec());
+            }
+        }
+        phi.push(stack_columns(n, &cols));
+    }
+
+    // (35): static columns. Coupling columns below round-off of `A_0^-1 K̂` are dropped
+    // (in full stick `K̂_0c = 0` for c >= 1).
+    let coupling_floor = PART_FLOOR * sol.as_ref().submatrix(0, 0, n, nw).norm_l2() * k_hat.k_hat.norm_max();
+    let mut cols0: Vec<Vec<f64>> = Vec::new();
+    for h in 1..=hh {
+        for c in [2 * h - 1, 2 * h] {
+            let k0c = k_hat.block(0, c);
+            for j in 0..phi[h].ncols() {
+                let phi_w = phi[h].as_ref().submatrix(0, j, nw, 1);
+                let f = k0c * phi_w; // n_w x 1
+                let x = sol.as_ref().submatrix(0, 0, n, nw) * &f;
+                let x: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+                if crate::linalg::norm2(&x) > coupling_floor {
+                    cols0.push(x);
+                }
+            }
+        }
+    }
+    cols0.push((0..n).map(|i| sol[(i, nw)]).collect());
+    cols0.push((0..n).map(|i| sol[(i, nw + 1)]).collect());
+    let cols0: Vec<Vec<f64>> = cols0
+        .into_iter()
+        .filter_map(|c| {
+            let norm = crate::linalg::norm2(&c);
+            (norm > 0.0).then(|| c.iter().map(|x| x / norm).collect())
+        })
+        .collect();
+    phi[0] = stack_columns(n, &cols0);
+
+    Ok(JpModes { eigenvalues, phi })
+}
+
+/// The static-correction vectors of [`ModeOptions::static_correction`], each of length
+/// `2 H n` (coefficients `1..=2H`) and scaled to unit length, so that the same part floor as for
+/// eigenvectors applies: `K_JC^-1 F_h` for every loaded harmonic `h`, and
+/// `K_JC^-1 K̂_J0 A_0^-1 (f_E^0 + g)` when the static state couples into the harmonics.
+/// `kjc` is `K_JC` (30) before it is made standard, `a0_inv` the static solves of (28)
+/// (`A_0^-1 [I_w; 0]`, `A_0^-1 f_E^0`, `A_0^-1 [g; 0]`).
+fn static_corrections(coords: &ContactCoordinates, k_hat: &ContactJacobian, kjc: &Mat<f64>, a0_inv: &Mat<f64>) -> Result<Vec<Vec<f64>>> {
+    let (n, nw, hh) = (coords.n_dof, coords.n_w, k_hat.harmonics);
+    let dim = 2 * hh * n;
+    let mut rhs: Vec<Vec<f64>> = Vec::new();
+    for h in 1..=hh {
+        if let Some((fc, fs)) = coords.harmonic_force.get(h - 1) {
+            let mut f = vec![0.0; dim];
+            f[(2 * h - 2) * n..(2 * h - 1) * n].copy_from_slice(fc);
+            f[(2 * h - 1) * n..2 * h * n].copy_from_slice(fs);
+            rhs.push(f);
+        }
+    }
+    // Static coupling: K̂_J0 restricted to the contact rows of A_0^-1 (f_E^0 + g).
+    let x0w = Mat::from_fn(nw, 1, |i, _| a0_inv[(i, nw)] + a0_inv[(i, nw + 1)]);
+    let mut f = vec![0.0; dim];
+    for c in 1..=2 * hh {
+        let kx = k_hat.block(c, 0) * &x0w;
+        for i in 0..nw {
+            f[(c - 1) * n + i] = kx[(i, 0)];
+        }
+    }
+    rhs.push(f);
+    let rhs: Vec<Vec<f64>> = rhs.into_iter().filter(|f| crate::linalg::norm2(f) > 0.0).collect();
+    if rhs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let x = lu_solve("K_JC (static correction of the JP modes)", kjc, &stack_columns(dim, &rhs))?;
+    Ok((0..x.ncols())
+        .map(|j| {
+            let norm = col_norm(&x, j);
+            (0..dim).map(|i| x[(i, j)] / norm).collect()
+        })
+        .filter(|v: &Vec<f64>| v.iter().all(|x| x.is_finite()))
+        .collect())
+}
+
+/// The kept eigenpairs of (31) by a dense non-symmetric eigen solve of the whole condensed
+/// problem (`O((2 H n)^3)`): eigenvalues `(Re, Im)` sorted by `Re λ`, and the real and imaginary
+/// parts of their eigenvectors (`2 H n x m`, coefficients `1..=2H`, each of unit length).
+fn dense_eigenpairs(coords: &ContactCoordinates, mut kjc: Mat<f64>, hh: usize, opts: &ModeOptions) -> Result<(Vec<(f64, f64)>, Mat<f64>, Mat<f64>)> {
+    let n = coords.n_dof;
+    let nj = 2 * hh;
+    let dim = nj * n;
+    let (lo, hi) = opts.band;
     // (31) made standard with M = L L^T, L_J = blockdiag(h L).
     let llt = coords.mass.llt(Side::Lower).map_err(|_| JpError::singular("mass matrix (not positive definite)"))?;
     let l = llt.L().to_owned();
@@ -139,7 +273,6 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     let evd = a.eigen().map_err(|e| JpError::Eigen { what: format!("eigen of the condensed JP problem (31): {e:?}") })?;
     let s = evd.S();
     let u = evd.U();
-    let dim = nj * n;
 
     // Selection in the band, then the nearest outside.
     let freq: Vec<f64> = (0..dim).map(|k| s[k].re.max(0.0).sqrt()).collect();
@@ -180,54 +313,6 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
         }
     }
 
-    // (33): per-harmonic columns.
-    let mut phi = Vec::with_capacity(hh + 1);
-    phi.push(Mat::zeros(n, 0));
-    for h in 1..=hh {
-        let mut cols: Vec<Vec<f64>> = Vec::new();
-        for col in 0..m {
-            for v in [&v_re, &v_im] {
-                for c in [2 * h - 2, 2 * h - 1] {
-                    let part: Vec<f64> = (0..n).map(|i| v[(c * n + i, col)]).collect();
-                    let norm = crate::linalg::norm2(&part);
-                    if norm > PART_FLOOR {
-                        cols.push(part.iter().map(|x| x / norm).collect());
-                    }
-                }
-            }
-        }
-        phi.push(stack_columns(n, &cols));
-    }
-
-    // (35): static columns. Coupling columns below round-off of `A_0^-1 K̂` are dropped
-    // (in full stick `K̂_0c = 0` for c >= 1).
-    let coupling_floor = PART_FLOOR * sol.as_ref().submatrix(0, 0, n, nw).norm_l2() * k_hat.k_hat.norm_max();
-    let mut cols0: Vec<Vec<f64>> = Vec::new();
-    for h in 1..=hh {
-        for c in [2 * h - 1, 2 * h] {
-            let k0c = k_hat.block(0, c);
-            for j in 0..phi[h].ncols() {
-                let phi_w = phi[h].as_ref().submatrix(0, j, nw, 1);
-                let f = k0c * phi_w; // n_w x 1
-                let x = sol.as_ref().submatrix(0, 0, n, nw) * &f;
-                let x: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
-                if crate::linalg::norm2(&x) > coupling_floor {
-                    cols0.push(x);
-                }
-            }
-        }
-    }
-    cols0.push((0..n).map(|i| sol[(i, nw)]).collect());
-    cols0.push((0..n).map(|i| sol[(i, nw + 1)]).collect());
-    let cols0: Vec<Vec<f64>> = cols0
-        .into_iter()
-        .filter_map(|c| {
-            let norm = crate::linalg::norm2(&c);
-            (norm > 0.0).then(|| c.iter().map(|x| x / norm).collect())
-        })
-        .collect();
-    phi[0] = stack_columns(n, &cols0);
-
     let eigenvalues = keep.iter().map(|&k| (s[k].re, s[k].im)).collect();
-    Ok(JpModes { eigenvalues, phi })
+    Ok((eigenvalues, v_re, v_im))
 }

@@ -79,7 +79,7 @@ impl PredictionOptions {
         PredictionOptions {
             harmonics: 1,
             nt: None,
-            modes: ModeOptions { band, extra_outside: 0 },
+            modes: ModeOptions::in_band(band),
             gamma: 1e3,
             n_samples: 100,
             spacing: Spacing::Log,
