@@ -28,9 +28,9 @@ use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, HbmOptions, PointSolution, SweepOptions};
-use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
+use jprom::jp::{predict_basis, BasisOptions, ContactJacobian, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
-use jprom::rom::{FrRom, NlrRom, ReducedModel};
+use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use std::sync::OnceLock;
 
 fn blade() -> &'static Blade {
@@ -155,4 +155,87 @@ fn own_jacobian_basis_partial_slip_h3() {
     let (fr, nlr) = &r[0];
     assert!(fr.x1 < 1e-3 && nlr.x1 < 1e-3, "X1: FR {:.2e} NLR {:.2e}", fr.x1, nlr.x1);
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL);
+}
+
+/// Errors of a predicted basis at the FO resonance: (n_0, n_1, FR X1, NLR X1, FR e*_1, FR e_1,
+/// NLR e*_1, NLR e_1).
+fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64, f64, f64, f64, f64, f64) {
+    let b = blade();
+    let model = b.at_level(b.alpha_st / div);
+    let hopts = HbmOptions::with_harmonics(1);
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let mut popts = PredictionOptions::new(b.band);
+    popts.modes.extra_outside = 2;
+    popts.gamma = gamma;
+    let (basis, _) = predict_basis(&coords, &popts).unwrap();
+    let fr = FrRom::new(&coords, &basis).unwrap();
+    let nlr = NlrRom::new(&cond, &basis).unwrap();
+    let eval = |rom: &dyn ReducedModel| -> (f64, f64, f64) {
+        let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
+        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
+        let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+        (tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1), es[1], ea[1])
+    };
+    let (fx, fes, fe) = eval(&fr);
+    let (nx, nes, ne) = eval(&nlr);
+    println!("alpha_ST/{div} gamma {gamma:.0e} sizes {:?}: FR X1 {fx:.2e} e*_1 {fes:.2e} e_1 {fe:.2e} | NLR X1 {nx:.2e} e*_1 {nes:.2e} e_1 {ne:.2e}", basis.sizes);
+    (basis.sizes[0], basis.sizes[1], fx, nx, fes, fe, nes, ne)
+}
+
+fn fo_resonance(div: f64) -> PointSolution {
+    let b = blade();
+    let hopts = HbmOptions::with_harmonics(1);
+    let cond = CondensedSystem::new(&b.at_level(b.alpha_st / div), &hopts).unwrap();
+    full_order_resonance(&cond, &hopts, b.band, None).0
+}
+
+/// Acceptance 2 and the first half of 3: predicted bases (stuck mode as generating shape) with
+/// gamma 1e2..1e4; the error at resonance falls as the basis grows, and e*_1 >= e_1 on every
+/// case (FR and NLR).
+#[test]
+fn predicted_bases_error_falls_with_size_and_predictor_is_conservative() {
+    let fo = fo_resonance(10.0);
+    let rows: Vec<_> = [1e2, 1e3, 1e4].iter().map(|&g| predicted_row(10.0, g, &fo)).collect();
+    for r in &rows {
+        assert!(r.4 + 1e-9 >= r.5, "FR e*_1 {:.2e} < e_1 {:.2e}", r.4, r.5);
+        assert!(r.6 + 1e-9 >= r.7, "NLR e*_1 {:.2e} < e_1 {:.2e}", r.6, r.7);
+    }
+    for w in rows.windows(2) {
+        assert!(w[1].1 >= w[0].1, "n_1 grows with gamma");
+        assert!(w[1].2 < w[0].2 && w[1].3 < w[0].3, "error falls as the basis grows: {:?} -> {:?}", w[0], w[1]);
+    }
+    // The largest basis is accurate and says so.
+    assert!(rows[2].3 < 1e-3 && rows[2].6 < 0.05);
+}
+
+/// Acceptance 3: at alpha_ST / 100 the stuck mode is a poor generating shape on this blade;
+/// e*_1 flags it, and the self-correcting sweep regenerates from its own reduced solution and
+/// brings the first-harmonic error at the FO resonance below 1 % with a basis of similar size.
+#[test]
+fn poor_generating_shape_is_flagged_and_corrected() {
+    let b = blade();
+    let div = 100.0;
+    let fo = fo_resonance(div);
+    let first = predicted_row(div, 1e3, &fo);
+    assert!(first.6 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.6);
+    assert!(first.6 + 1e-9 >= first.7);
+    let model = b.at_level(b.alpha_st / div);
+    let hopts = HbmOptions::with_harmonics(1);
+    let mut popts = PredictionOptions::new(b.band);
+    popts.modes.extra_outside = 2;
+    let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(b.band.0, b.band.1) };
+    let out = adaptive_sweep(&model, &popts, &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    println!("corrections {:?}", out.corrections);
+    assert!(!out.corrections.is_empty(), "the sweep must have corrected its basis");
+    let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
+    assert!(worst <= 0.05, "worst e*_1 after correction {worst:.2e}");
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let nlr = NlrRom::new(&cond, &out.basis).unwrap();
+    let s = solve_point(&nlr, fo.omega, None, &hopts).unwrap();
+    let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
+    println!("final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.0, first.1));
+    assert!(x1 < 1e-2, "X1 error after correction {x1:.2e}");
+    assert!(out.basis.sizes[1] <= 2 * first.1, "similar size: n_1 {} from {}", out.basis.sizes[1], first.1);
 }
