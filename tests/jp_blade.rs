@@ -56,7 +56,7 @@ fn own_basis(harmonics: usize, div: f64, extra: usize) -> (Outcome, Outcome) {
     let mut forces = ContactForces::default();
     evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
     let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
-    let opts = BasisOptions { modes: ModeOptions { band: b.band, extra_outside: extra, static_correction: true }, gamma: 1e10 };
+    let opts = BasisOptions { modes: ModeOptions { band: b.band, extra_outside: extra, static_correction: true, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e10 };
     let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let nlr = NlrRom::new(&cond, &basis).unwrap();
