@@ -30,7 +30,7 @@ fn check_full_stick(harmonics: usize, pair: bool) {
     let lo = 0.5 * (freqs[0] + freqs[1]);
     let hi = 0.5 * (freqs[2] + freqs[3]);
     let k_hat = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, harmonics).unwrap();
-    let jp = jp_modes(&coords, &k_hat, &ModeOptions { band: (lo, hi), extra_outside: 0, static_correction: false }).unwrap();
+    let jp = jp_modes(&coords, &k_hat, &ModeOptions { band: (lo, hi), extra_outside: 0, static_correction: false, solver: jprom::jp::EigenSolver::Auto }).unwrap();
 
     // Expected eigenvalues: for every h, every linear mode with omega_k / h in the band, twice.
     let mut expected: Vec<f64> = Vec::new();
@@ -101,7 +101,7 @@ fn extra_outside_adds_nearest_modes() {
     let lo = 0.5 * (freqs[1] + freqs[2]);
     let hi = 0.5 * (freqs[2] + freqs[3]);
     let k_hat = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, 1).unwrap();
-    let jp = jp_modes(&coords, &k_hat, &ModeOptions { band: (lo, hi), extra_outside: 4, static_correction: false }).unwrap();
+    let jp = jp_modes(&coords, &k_hat, &ModeOptions { band: (lo, hi), extra_outside: 4, static_correction: false, solver: jprom::jp::EigenSolver::Auto }).unwrap();
     // Mode 2 in band (a pair) plus the 4 nearest eigenvalues outside: modes 1 and 3 (or 4), pairs.
     let f = jp.frequencies();
     assert_eq!(f.len(), 6);
@@ -155,7 +155,7 @@ fn basis_save_load_roundtrip() {
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let k_hat = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, 1).unwrap();
-    let opts = jprom::jp::BasisOptions { modes: ModeOptions { band: (0.0, freqs[3]), extra_outside: 0, static_correction: false }, gamma: 1e3 };
+    let opts = jprom::jp::BasisOptions { modes: ModeOptions { band: (0.0, freqs[3]), extra_outside: 0, static_correction: false, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e3 };
     let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
     let dir = std::env::temp_dir().join(format!("jprom_basis_{}.json", std::process::id()));
     basis.save_json(&dir).unwrap();

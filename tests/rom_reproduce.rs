@@ -47,7 +47,7 @@ fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
     let condensed = CondensedSystem::new(&model, &hopts).unwrap();
     let mut errors = Vec::new();
     for &extra in extras {
-        let opts = BasisOptions { modes: ModeOptions { band, extra_outside: extra, static_correction: true }, gamma: 1e10 };
+        let opts = BasisOptions { modes: ModeOptions { band, extra_outside: extra, static_correction: true, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e10 };
         let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
         let fr = FrRom::new(&coords, &basis).unwrap();
         let nlr = NlrRom::new(&condensed, &basis).unwrap();

@@ -12,10 +12,11 @@ pub mod basis;
 pub mod conditioning;
 pub mod modes;
 pub mod prediction;
+pub mod shift_invert;
 
 pub use basis::{JpBasis, BasisOptions};
 pub use conditioning::{condition, ConditionedBasis};
-pub use modes::{jp_modes, JpModes, ModeOptions};
+pub use modes::{jp_modes, EigenSolver, JpModes, ModeOptions};
 pub use prediction::{predict_basis, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, Spacing};
 
 

@@ -46,6 +46,37 @@ pub struct ModeOptions {
     /// in the static term. Default `true`.
     #[serde(default = "default_static_correction")]
     pub static_correction: bool,
+    /// Eigen solver of (31) (default [`EigenSolver::Auto`]).
+    #[serde(default)]
+    pub solver: EigenSolver,
+}
+
+/// How the eigenproblem (31) is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EigenSolver {
+    /// Dense non-symmetric eigen solve of the whole condensed problem, `O((2 H n)^3)`.
+    Dense,
+    /// A few eigenpairs around the band by shift-invert Arnoldi over a factorisation of
+    /// `K_JC - σ M_JC` ([`super::shift_invert`]).
+    ShiftInvert,
+    /// [`EigenSolver::Dense`] up to [`AUTO_DENSE_MAX`] = `2 H n`, else
+    /// [`EigenSolver::ShiftInvert`].
+    #[default]
+    Auto,
+}
+
+/// Largest condensed size `2 H n` that [`EigenSolver::Auto`] solves densely.
+pub const AUTO_DENSE_MAX: usize = 600;
+
+impl EigenSolver {
+    /// The solver used for a condensed problem of size `dim = 2 H n`.
+    pub fn resolve(self, dim: usize) -> EigenSolver {
+        match self {
+            EigenSolver::Auto if dim <= AUTO_DENSE_MAX => EigenSolver::Dense,
+            EigenSolver::Auto => EigenSolver::ShiftInvert,
+            s => s,
+        }
+    }
 }
 
 fn default_static_correction() -> bool {
@@ -55,7 +86,7 @@ fn default_static_correction() -> bool {
 impl ModeOptions {
     /// The in-band eigenpairs of `band` with the static correction, nothing outside.
     pub fn in_band(band: (f64, f64)) -> Self {
-        ModeOptions { band, extra_outside: 0, static_correction: true }
+        ModeOptions { band, extra_outside: 0, static_correction: true, solver: EigenSolver::Auto }
     }
 }
 
@@ -139,7 +170,10 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     // static correction; the eigenvectors alone then make the basis.
     let corrections = if opts.static_correction { static_corrections(coords, k_hat, &kjc, &sol).unwrap_or_default() } else { Vec::new() };
 
-    let (eigenvalues, v_re, v_im) = dense_eigenpairs(coords, kjc, hh, opts)?;
+    let (eigenvalues, v_re, v_im) = match opts.solver.resolve(2 * hh * n) {
+        EigenSolver::ShiftInvert => super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?,
+        _ => dense_eigenpairs(coords, kjc, hh, opts)?,
+    };
     let m = eigenvalues.len();
 
     // (33): per-harmonic columns, then those of the static corrections.

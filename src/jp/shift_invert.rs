@@ -1,0 +1,647 @@
+//! Partial eigen solve of the JP problem (31) by shift-invert Arnoldi (method.md §6, step 3),
+//! for models too large for the dense solve of the whole condensed problem.
+//!
+//! With the shift `σ` (the square of the band centre, rad/s) the operator
+//!
+//! ```text
+//! A = (K_JC - σ M_JC)^-1 M_JC
+//! ```
+//!
+//! has the eigenvectors of (31) and eigenvalues `θ = 1 / (λ - σ)`, so its largest ones are the
+//! eigenvalues of (31) nearest the band. faer's matrix-free Krylov-Schur solver
+//! (`faer::matrix_free::eigen::partial_eigen`, real non-symmetric, eigenvalues of largest
+//! magnitude) finds them; `(K_JC - σ M_JC)` is never inverted, only factorised
+//! ([`ShiftedSolve`]): either densely, or — the structured form — as a factorisation of the
+//! model itself plus a correction on the contact coordinates,
+//!
+//! ```text
+//! K_JC - σ M_JC = blockdiag_c(B_h(c)) + E^T S E,   B_h = K - σ h^2 M,
+//! S_ij = K̂_ij - K̂_i0 A_0^-1|_ww K̂_0j   (i, j = 1..=2H),
+//! ```
+//!
+//! `E` selecting the first `n_w` rows (the contact coordinates) of each of the `2H` coefficient
+//! blocks. One LU per harmonic (shared by its cos and sin blocks) and the Woodbury identity
+//! `(B + E^T S E)^-1 = B^-1 - B^-1 E^T (I + S R)^-1 S E B^-1`, `R = E B^-1 E^T`, give the
+//! solve with one further dense LU of size `2 H n_w`.
+//!
+//! **Coverage.** `k` eigenpairs are requested; every eigenvalue nearer to `σ` than the farthest
+//! converged one has been found, so the selection is complete when the `λ`-range of the band
+//! (widened to the farthest kept extra eigenpair) lies inside the disc
+//! `|λ - σ| < min 1 / |θ|`. Otherwise `k` is doubled (a bounded number of times).
+//!
+//! **Multiplicities.** Arnoldi from one start vector sees one direction of each eigenspace. In
+//! full stick (and whenever `K̂` does not depend on time) (31) commutes with the time shift
+//! `J: (q_hc, q_hs) -> (-q_hs, q_hc)`, so each eigenvalue comes in an equal pair `v`, `J v`;
+//! a missing partner `J v` (an eigenvector with the same eigenvalue, independent of those
+//! found) is added, as are missing complex conjugates, so the kept eigenvalues match the dense
+//! solve's (which counts a stuck pair as 2).
+
+use super::modes::ModeOptions;
+use super::ContactJacobian;
+use crate::error::{JpError, Result};
+use crate::model::ContactCoordinates;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::matrix_free::LinOp;
+use faer::{c64, Mat, MatMut, MatRef, Par};
+
+/// Kept eigenpairs of (31): eigenvalues `(Re, Im)` and the real and imaginary parts of the
+/// eigenvectors (`2 H n x m`).
+pub type Eigenpairs = (Vec<(f64, f64)>, Mat<f64>, Mat<f64>);
+
+/// Relative tolerance of the Krylov-Schur residual (on the operator scaled to unit norm).
+pub const ARNOLDI_TOLERANCE: f64 = 1e-12;
+/// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)` of a
+/// kept eigenpair.
+pub const RESIDUAL_TOLERANCE: f64 = 1e-6;
+/// Inverse-iteration steps applied to the converged eigenvectors ([`refine`]).
+pub const REFINEMENT_STEPS: usize = 2;
+/// Eigenpairs requested at first; doubled until the band is covered.
+pub const INITIAL_REQUEST: usize = 16;
+/// Number of doublings of the request before giving up.
+pub const MAX_DOUBLINGS: usize = 8;
+
+fn par() -> Par {
+    Par::rayon(0)
+}
+
+/// How [`ShiftedSolve`] factorises `K_JC - σ M_JC`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShiftedFactorisation {
+    /// One dense LU of the whole `2 H n` square matrix.
+    Dense,
+    /// One LU of `K - σ h^2 M` per harmonic and a dense LU of size `2 H n_w` (Woodbury).
+    Woodbury,
+    /// The cheaper of the two by a flop estimate (Woodbury when the contact coordinates are a
+    /// small part of the model), Dense if the Woodbury solve turns out inaccurate.
+    Auto,
+}
+
+/// The pieces of the condensed problem (30)-(31) in structured form:
+/// `K_JC = blockdiag(K) + E^T S E`, `M_JC = blockdiag(h^2 M)`.
+#[derive(Debug)]
+pub struct CondensedProblem<'a> {
+    coords: &'a ContactCoordinates,
+    harmonics: usize,
+    /// `S`, `2 H n_w` square (coefficient blocks `1..=2H`).
+    s: Mat<f64>,
+}
+
+impl<'a> CondensedProblem<'a> {
+    /// `S_ij = K̂_ij - K̂_i0 g_ww K̂_0j` with `g_ww = (K + K̂_00)^-1|_ww` (the contact block of the
+    /// static condensation (28)).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if the sizes do not match.
+    pub fn new(coords: &'a ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>) -> Result<Self> {
+        let nw = coords.n_w;
+        let hh = k_hat.harmonics;
+        if k_hat.n_w != nw || k_hat.k_hat.nrows() != (2 * hh + 1) * nw {
+            return Err(JpError::bad_size("contact Jacobian (rows)", (2 * hh + 1) * nw, k_hat.k_hat.nrows()));
+        }
+        if g_ww.nrows() != nw || g_ww.ncols() != nw {
+            return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
+        }
+        let nj = 2 * hh;
+        let mut s = Mat::<f64>::zeros(nj * nw, nj * nw);
+        for ci in 1..=nj {
+            let left = k_hat.block(ci, 0) * g_ww;
+            for cj in 1..=nj {
+                let corr = &left * k_hat.block(0, cj);
+                let kij = k_hat.block(ci, cj);
+                for j in 0..nw {
+                    for i in 0..nw {
+                        s[((ci - 1) * nw + i, (cj - 1) * nw + j)] = kij[(i, j)] - corr[(i, j)];
+                    }
+                }
+            }
+        }
+        Ok(CondensedProblem { coords, harmonics: hh, s })
+    }
+
+    /// Size `2 H n` of the condensed problem.
+    pub fn dim(&self) -> usize {
+        2 * self.harmonics * self.coords.n_dof
+    }
+
+    /// `out = (K_JC - shift M_JC) x` (structured, `O(H n^2 + (H n_w)^2)` per column).
+    pub fn apply_shifted(&self, x: MatRef<'_, f64>, shift: f64) -> Mat<f64> {
+        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let nj = 2 * self.harmonics;
+        let k = x.ncols();
+        let mut out = Mat::<f64>::zeros(nj * n, k);
+        for c in 0..nj {
+            let h = (c / 2 + 1) as f64;
+            let xc = x.submatrix(c * n, 0, n, k);
+            let mut oc = out.as_mut().submatrix_mut(c * n, 0, n, k);
+            faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Replace, self.coords.stiffness.as_ref(), xc, 1.0, par());
+            if shift != 0.0 {
+                faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Add, self.coords.mass.as_ref(), xc, -shift * h * h, par());
+            }
+        }
+        let ex = gather_w(x, n, nw, nj);
+        let sex = &self.s * &ex;
+        for c in 0..nj {
+            for j in 0..k {
+                for i in 0..nw {
+                    out[(c * n + i, j)] += sex[(c * nw + i, j)];
+                }
+            }
+        }
+        out
+    }
+
+    /// `M_JC x`.
+    pub fn apply_mass(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let n = self.coords.n_dof;
+        let nj = 2 * self.harmonics;
+        let k = x.ncols();
+        let mut out = Mat::<f64>::zeros(nj * n, k);
+        for c in 0..nj {
+            let h = (c / 2 + 1) as f64;
+            let oc = out.as_mut().submatrix_mut(c * n, 0, n, k);
+            faer::linalg::matmul::matmul(oc, faer::Accum::Replace, self.coords.mass.as_ref(), x.submatrix(c * n, 0, n, k), h * h, par());
+        }
+        out
+    }
+
+    /// Dense `K_JC - shift M_JC` (for tests and the dense factorisation).
+    pub fn dense_shifted(&self, shift: f64) -> Mat<f64> {
+        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let nj = 2 * self.harmonics;
+        let mut a = Mat::<f64>::zeros(nj * n, nj * n);
+        for c in 0..nj {
+            let h = (c / 2 + 1) as f64;
+            let mut blk = a.as_mut().submatrix_mut(c * n, c * n, n, n);
+            blk.copy_from(&self.coords.stiffness);
+            blk -= faer::Scale(shift * h * h) * &self.coords.mass;
+        }
+        for cj in 0..nj {
+            for j in 0..nw {
+                for ci in 0..nj {
+                    for i in 0..nw {
+                        a[(ci * n + i, cj * n + j)] += self.s[(ci * nw + i, cj * nw + j)];
+                    }
+                }
+            }
+        }
+        a
+    }
+}
+
+/// `E x`: the contact rows of every coefficient block.
+fn gather_w(x: MatRef<'_, f64>, n: usize, nw: usize, nj: usize) -> Mat<f64> {
+    Mat::from_fn(nj * nw, x.ncols(), |r, j| x[((r / nw) * n + r % nw, j)])
+}
+
+#[derive(Debug)]
+enum Factors {
+    Dense(PartialPivLu<f64>),
+    Woodbury {
+        /// LU of `B_h = K - σ h^2 M`, `h = 1..=H`.
+        b: Vec<PartialPivLu<f64>>,
+        /// `B_h^-1 E_h^T` (`n x n_w`), `h = 1..=H`.
+        y: Vec<Mat<f64>>,
+        /// LU of `I + S R` (`2 H n_w` square).
+        cap: PartialPivLu<f64>,
+    },
+}
+
+/// A factorisation of `K_JC - σ M_JC` and its solve.
+#[derive(Debug)]
+pub struct ShiftedSolve<'p, 'a> {
+    problem: &'p CondensedProblem<'a>,
+    shift: f64,
+    factors: Factors,
+}
+
+impl<'p, 'a> ShiftedSolve<'p, 'a> {
+    /// Factorises `K_JC - shift M_JC` the way `how` says.
+    ///
+    /// # Errors
+    /// [`JpError::SingularMatrix`] if the matrix (or, for [`ShiftedFactorisation::Woodbury`],
+    /// one of its pieces) is singular or the solve is inaccurate.
+    pub fn new(problem: &'p CondensedProblem<'a>, shift: f64, how: ShiftedFactorisation) -> Result<Self> {
+        let (n, nw) = (problem.coords.n_dof, problem.coords.n_w);
+        let hh = problem.harmonics;
+        let nf = |x: usize| x as f64;
+        let how = match how {
+            ShiftedFactorisation::Auto => {
+                let dense = nf(2 * hh * n).powi(3) * 2.0 / 3.0;
+                let wood = nf(hh) * nf(n).powi(3) * 2.0 / 3.0 + nf(hh) * 2.0 * nf(n).powi(2) * nf(nw) + nf(2 * hh * nw).powi(3) * 2.0 / 3.0;
+                if wood < dense {
+                    match Self::new(problem, shift, ShiftedFactorisation::Woodbury) {
+                        Ok(s) => return Ok(s),
+                        Err(_) => ShiftedFactorisation::Dense,
+                    }
+                } else {
+                    ShiftedFactorisation::Dense
+                }
+            }
+            h => h,
+        };
+        let factors = match how {
+            ShiftedFactorisation::Dense => Factors::Dense(problem.dense_shifted(shift).partial_piv_lu()),
+            _ => {
+                let mut b = Vec::with_capacity(hh);
+                let mut y = Vec::with_capacity(hh);
+                let mut e = Mat::<f64>::zeros(n, nw);
+                for i in 0..nw {
+                    e[(i, i)] = 1.0;
+                }
+                for h in 1..=hh {
+                    let bh = &problem.coords.stiffness - faer::Scale(shift * (h * h) as f64) * &problem.coords.mass;
+                    let lu = bh.partial_piv_lu();
+                    y.push(lu.solve(&e));
+                    b.push(lu);
+                }
+                let nj = 2 * hh;
+                // I + S R, R = blockdiag_c(E B_h(c)^-1 E^T).
+                let mut cap = Mat::<f64>::identity(nj * nw, nj * nw);
+                for cj in 0..nj {
+                    let r = y[cj / 2].as_ref().submatrix(0, 0, nw, nw);
+                    let sr = problem.s.as_ref().submatrix(0, cj * nw, nj * nw, nw) * r;
+                    let mut blk = cap.as_mut().submatrix_mut(0, cj * nw, nj * nw, nw);
+                    blk += &sr;
+                }
+                Factors::Woodbury { b, y, cap: cap.partial_piv_lu() }
+            }
+        };
+        let solve = ShiftedSolve { problem, shift, factors };
+        // Check the factorisation on a fixed right-hand side.
+        let dim = problem.dim();
+        let rhs = Mat::from_fn(dim, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
+        let x = solve.solve(rhs.as_ref());
+        let finite = (0..dim).all(|i| x[(i, 0)].is_finite());
+        let r = problem.apply_shifted(x.as_ref(), shift) - &rhs;
+        let scale = problem.apply_shifted(x.as_ref(), 0.0).norm_l2() + shift.abs() * problem.apply_mass(x.as_ref()).norm_l2() + rhs.norm_l2();
+        if !finite || r.norm_l2() > 1e-9 * scale {
+            return Err(JpError::singular(format!("K_JC - sigma M_JC (shift-invert of the JP problem (31), {how:?} factorisation)")));
+        }
+        Ok(solve)
+    }
+
+    /// The shift `σ`.
+    pub fn shift(&self) -> f64 {
+        self.shift
+    }
+
+    /// `(K_JC - σ M_JC)^-1 rhs`.
+    pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
+        let (n, nw) = (self.problem.coords.n_dof, self.problem.coords.n_w);
+        let nj = 2 * self.problem.harmonics;
+        let k = rhs.ncols();
+        match &self.factors {
+            Factors::Dense(lu) => lu.solve(rhs),
+            Factors::Woodbury { b, y, cap } => {
+                // x0 = B^-1 rhs, cos and sin blocks of a harmonic in one solve.
+                let mut x = Mat::<f64>::zeros(nj * n, k);
+                for (hi, lu) in b.iter().enumerate() {
+                    let both = Mat::from_fn(n, 2 * k, |i, j| rhs[((2 * hi + j / k) * n + i, j % k)]);
+                    let sol = lu.solve(&both);
+                    for j in 0..2 * k {
+                        for i in 0..n {
+                            x[((2 * hi + j / k) * n + i, j % k)] = sol[(i, j)];
+                        }
+                    }
+                }
+                // u = (I + S R)^-1 S E x0; x = x0 - B^-1 E^T u.
+                let sex = &self.problem.s * gather_w(x.as_ref(), n, nw, nj);
+                let u = cap.solve(&sex);
+                for c in 0..nj {
+                    let corr = &y[c / 2] * u.as_ref().submatrix(c * nw, 0, nw, k);
+                    let mut xc = x.as_mut().submatrix_mut(c * n, 0, n, k);
+                    xc -= &corr;
+                }
+                x
+            }
+        }
+    }
+}
+
+/// The shift-invert operator `scale (K_JC - σ M_JC)^-1 M_JC`.
+#[derive(Debug)]
+struct Operator<'s, 'p, 'a> {
+    solve: &'s ShiftedSolve<'p, 'a>,
+    scale: f64,
+}
+
+impl Operator<'_, '_, '_> {
+    fn apply_to(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>) {
+        let mx = self.solve.problem.apply_mass(rhs);
+        let x = self.solve.solve(mx.as_ref());
+        let mut out = out;
+        out.copy_from(faer::Scale(self.scale) * &x);
+    }
+}
+
+impl LinOp<f64> for Operator<'_, '_, '_> {
+    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
+        StackReq::EMPTY
+    }
+    fn nrows(&self) -> usize {
+        self.solve.problem.dim()
+    }
+    fn ncols(&self) -> usize {
+        self.solve.problem.dim()
+    }
+    fn apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+        self.apply_to(out, rhs);
+    }
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+        self.apply_to(out, rhs);
+    }
+}
+
+/// One eigenpair of (31) with a complex eigenvector of unit length.
+#[derive(Clone, Debug)]
+struct Pair {
+    lambda: c64,
+    v: Vec<c64>,
+}
+
+fn cnorm(v: &[c64]) -> f64 {
+    v.iter().map(|z| z.re * z.re + z.im * z.im).sum::<f64>().sqrt()
+}
+
+fn normalised(v: Vec<c64>) -> Vec<c64> {
+    let s = cnorm(&v);
+    v.into_iter().map(|z| c64::new(z.re / s, z.im / s)).collect()
+}
+
+/// Relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)`.
+fn residual(problem: &CondensedProblem<'_>, p: &Pair) -> f64 {
+    let dim = p.v.len();
+    let v = Mat::from_fn(dim, 2, |i, j| if j == 0 { p.v[i].re } else { p.v[i].im });
+    let kv = problem.apply_shifted(v.as_ref(), 0.0);
+    let mv = problem.apply_mass(v.as_ref());
+    let (lr, li) = (p.lambda.re, p.lambda.im);
+    let mut r2 = 0.0;
+    for i in 0..dim {
+        // (kr + i ki) - (lr + i li)(mr + i mi)
+        let rr = kv[(i, 0)] - (lr * mv[(i, 0)] - li * mv[(i, 1)]);
+        let ri = kv[(i, 1)] - (lr * mv[(i, 1)] + li * mv[(i, 0)]);
+        r2 += rr * rr + ri * ri;
+    }
+    let lam = (lr * lr + li * li).sqrt();
+    r2.sqrt() / (kv.norm_l2() + lam * mv.norm_l2()).max(f64::MIN_POSITIVE)
+}
+
+/// Residual of `v` against the span of `basis` (complex, orthonormal) relative to `|v|`.
+fn out_of_span(basis: &[Vec<c64>], v: &[c64]) -> (f64, Vec<c64>) {
+    let mut r = v.to_vec();
+    for _ in 0..2 {
+        for q in basis {
+            // coefficient q^H r
+            let (mut cr, mut ci) = (0.0, 0.0);
+            for (a, b) in q.iter().zip(&r) {
+                cr += a.re * b.re + a.im * b.im;
+                ci += a.re * b.im - a.im * b.re;
+            }
+            for (a, b) in q.iter().zip(r.iter_mut()) {
+                b.re -= cr * a.re - ci * a.im;
+                b.im -= cr * a.im + ci * a.re;
+            }
+        }
+    }
+    (cnorm(&r) / cnorm(v).max(f64::MIN_POSITIVE), r)
+}
+
+/// [`REFINEMENT_STEPS`] steps of inverse iteration `v <- A v` on every pair, and the
+/// eigenvalue from the Rayleigh quotient `θ = v^H A v / v^H v` of the last step
+/// (`λ = σ + 1 / θ`). The Krylov-Schur residual is small relative to the largest `θ`; the stiff
+/// directions of the model (tiny `θ`) can still carry error that is large in the residual of
+/// (31) — one application of `A` damps them by `θ_j / θ`. The Rayleigh quotient also makes
+/// each eigenvalue that of its own vector (whatever the pairing of a complex pair's values and
+/// vectors in the Schur output).
+fn refine(op: &Operator<'_, '_, '_>, sigma: f64, pairs: &mut [Pair]) {
+    if pairs.is_empty() {
+        return;
+    }
+    let dim = pairs[0].v.len();
+    for step in 0..REFINEMENT_STEPS {
+        let v = Mat::from_fn(dim, 2 * pairs.len(), |i, j| if j % 2 == 0 { pairs[j / 2].v[i].re } else { pairs[j / 2].v[i].im });
+        let mut w = Mat::<f64>::zeros(dim, v.ncols());
+        op.apply_to(w.as_mut(), v.as_ref());
+        for (k, p) in pairs.iter_mut().enumerate() {
+            let wk: Vec<c64> = (0..dim).map(|i| c64::new(w[(i, 2 * k)], w[(i, 2 * k + 1)])).collect();
+            if step + 1 == REFINEMENT_STEPS {
+                // θ = v^H w (v has unit length), in the unscaled operator.
+                let (mut tr, mut ti) = (0.0, 0.0);
+                for (a, b) in p.v.iter().zip(&wk) {
+                    tr += a.re * b.re + a.im * b.im;
+                    ti += a.re * b.im - a.im * b.re;
+                }
+                let (tr, ti) = (tr / op.scale, ti / op.scale);
+                let m2 = tr * tr + ti * ti;
+                if m2.is_finite() && m2 > 0.0 {
+                    p.lambda = c64::new(sigma + tr / m2, -ti / m2);
+                }
+            }
+            p.v = normalised(wk);
+        }
+    }
+}
+
+/// Adds the missing complex conjugates and time-shift partners `J v` of the found pairs.
+fn complete(problem: &CondensedProblem<'_>, pairs: &mut Vec<Pair>) {
+    let n = problem.coords.n_dof;
+    let nj = 2 * problem.harmonics;
+    let close = |a: c64, b: c64| {
+        let d = ((a.re - b.re).powi(2) + (a.im - b.im).powi(2)).sqrt();
+        d <= 1e-7 * (a.re * a.re + a.im * a.im).sqrt().max(f64::MIN_POSITIVE)
+    };
+    // Duplicates (the same eigenvector twice).
+    let mut kept: Vec<Pair> = Vec::with_capacity(pairs.len());
+    for p in pairs.drain(..) {
+        let mut basis: Vec<Vec<c64>> = Vec::new();
+        for q in kept.iter().filter(|q| close(q.lambda, p.lambda)) {
+            let (rel, r) = out_of_span(&basis, &q.v);
+            if rel > 1e-6 {
+                basis.push(normalised(r));
+            }
+        }
+        if out_of_span(&basis, &p.v).0 > 1e-4 {
+            kept.push(p);
+        }
+    }
+    *pairs = kept;
+    // Conjugates.
+    let mut added = Vec::new();
+    for p in pairs.iter() {
+        if p.lambda.im.abs() > 1e-10 * p.lambda.re.abs() {
+            let conj = c64::new(p.lambda.re, -p.lambda.im);
+            if !pairs.iter().chain(added.iter()).any(|q: &Pair| close(q.lambda, conj)) {
+                added.push(Pair { lambda: conj, v: p.v.iter().map(|z| c64::new(z.re, -z.im)).collect() });
+            }
+        }
+    }
+    pairs.extend(added);
+    // Time-shift partners.
+    let mut i = 0;
+    while i < pairs.len() {
+        let p = &pairs[i];
+        let mut jv = vec![c64::new(0.0, 0.0); p.v.len()];
+        for c in (0..nj).step_by(2) {
+            for r in 0..n {
+                jv[c * n + r] = c64::new(-p.v[(c + 1) * n + r].re, -p.v[(c + 1) * n + r].im);
+                jv[(c + 1) * n + r] = p.v[c * n + r];
+            }
+        }
+        let cand = Pair { lambda: p.lambda, v: jv };
+        if residual(problem, &cand) < 1e-9 {
+            // Orthonormal basis of the found eigenvectors of this eigenvalue.
+            let mut basis: Vec<Vec<c64>> = Vec::new();
+            for q in pairs.iter().filter(|q| close(q.lambda, cand.lambda)) {
+                let (rel, r) = out_of_span(&basis, &q.v);
+                if rel > 1e-6 {
+                    basis.push(normalised(r));
+                }
+            }
+            let (rel, _) = out_of_span(&basis, &cand.v);
+            if rel > 1e-4 {
+                pairs.push(Pair { lambda: cand.lambda, v: normalised(cand.v) });
+            }
+        }
+        i += 1;
+    }
+}
+
+/// The kept eigenpairs of (31) by shift-invert Arnoldi around the band centre, with the
+/// contract of the dense solve: eigenvalues `(Re, Im)` sorted by `Re λ` (band, then the
+/// `extra_outside` nearest by `sqrt(Re λ)`), and the real and imaginary parts of their
+/// eigenvectors (`2 H n x m`, coefficients `1..=2H`, each of unit length, real and imaginary
+/// parts together). `g_ww` is the contact block `(K + K̂_00)^-1|_ww` of (28).
+///
+/// # Errors
+/// [`JpError::SingularMatrix`] if `K_JC - σ M_JC` cannot be factorised; [`JpError::Eigen`] if
+/// the band is not covered after [`MAX_DOUBLINGS`] doublings of the request, or a kept pair's
+/// residual exceeds [`RESIDUAL_TOLERANCE`].
+pub fn shift_invert_eigenpairs(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>, opts: &ModeOptions) -> Result<Eigenpairs> {
+    shift_invert_eigenpairs_with(coords, k_hat, g_ww, opts, ShiftedFactorisation::Auto)
+}
+
+/// [`shift_invert_eigenpairs`] with a chosen factorisation.
+///
+/// # Errors
+/// As [`shift_invert_eigenpairs`].
+pub fn shift_invert_eigenpairs_with(
+    coords: &ContactCoordinates,
+    k_hat: &ContactJacobian,
+    g_ww: &Mat<f64>,
+    opts: &ModeOptions,
+    how: ShiftedFactorisation,
+) -> Result<Eigenpairs> {
+    let (lo, hi) = opts.band;
+    let problem = CondensedProblem::new(coords, k_hat, g_ww)?;
+    let dim = problem.dim();
+    let centre = 0.5 * (lo + hi);
+    let sigma = centre * centre;
+    let solve = ShiftedSolve::new(&problem, sigma, how)?;
+
+    // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
+    // tolerance is relative.
+    let op0 = Operator { solve: &solve, scale: 1.0 };
+    let mut v = Mat::from_fn(dim, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
+    let mut est = 0.0;
+    for _ in 0..20 {
+        let nv = v.norm_l2();
+        v /= nv;
+        let mut w = Mat::zeros(dim, 1);
+        op0.apply_to(w.as_mut(), v.as_ref());
+        est = w.norm_l2();
+        v = w;
+    }
+    if !(est.is_finite() && est > 0.0) {
+        return Err(JpError::Eigen { what: format!("shift-invert operator of (31): norm estimate {est}") });
+    }
+    let op = Operator { solve: &solve, scale: 1.0 / est };
+    let freq = |l: c64| l.re.max(0.0).sqrt();
+    let in_band = |f: f64| f >= lo && f <= hi;
+
+    let mut k = INITIAL_REQUEST.min(dim);
+    let mut attempt = 0;
+    let (pairs, keep) = loop {
+        let params = faer::matrix_free::eigen::PartialEigenParams { max_dim: (2 * k).max(64).min(dim), ..Default::default() };
+        let req = faer::matrix_free::eigen::partial_eigen_scratch::<f64>(&op, k, par(), params);
+        let mut mem = MemBuffer::new(req);
+        let mut vecs = Mat::<c64>::zeros(dim, k);
+        let mut vals = vec![c64::new(0.0, 0.0); k];
+        let v0 = faer::Col::<f64>::from_fn(dim, |i| 1.0 + ((i * 104729) % 17) as f64 / 17.0);
+        let info = faer::matrix_free::eigen::partial_eigen(
+            vecs.as_mut(),
+            &mut vals,
+            &op,
+            v0.as_ref(),
+            ARNOLDI_TOLERANCE,
+            par(),
+            MemStack::new(&mut mem),
+            params,
+        );
+        let nconv = info.n_converged_eigen.min(k);
+        let mut pairs: Vec<Pair> = Vec::with_capacity(nconv);
+        // Distance to σ of the farthest converged eigenvalue: all nearer ones are found.
+        let mut radius = 0.0f64;
+        for j in 0..nconv {
+            let th = c64::new(vals[j].re * est, vals[j].im * est);
+            let m2 = th.re * th.re + th.im * th.im;
+            if !(m2.is_finite() && m2 > 0.0) {
+                continue;
+            }
+            radius = radius.max(1.0 / m2.sqrt());
+            // λ = σ + 1/θ
+            let lambda = c64::new(sigma + th.re / m2, -th.im / m2);
+            pairs.push(Pair { lambda, v: normalised((0..dim).map(|i| vecs[(i, j)]).collect()) });
+        }
+        refine(&op, sigma, &mut pairs);
+        complete(&problem, &mut pairs);
+        let all_found = nconv >= dim;
+
+        // Selection as in the dense path.
+        let mut keep: Vec<usize> = (0..pairs.len()).filter(|&j| in_band(freq(pairs[j].lambda))).collect();
+        let mut outside: Vec<(f64, usize)> = (0..pairs.len())
+            .filter(|&j| !in_band(freq(pairs[j].lambda)))
+            .map(|j| ((lo - freq(pairs[j].lambda)).max(freq(pairs[j].lambda) - hi), j))
+            .collect();
+        outside.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let extra: Vec<(f64, usize)> = outside.iter().take(opts.extra_outside).copied().collect();
+        let enough_extra = extra.len() == opts.extra_outside;
+        let d = extra.last().map_or(0.0, |e| e.0);
+        keep.extend(extra.iter().map(|&(_, j)| j));
+        // λ-range that must be inside the disc |λ - σ| < radius.
+        let (a, b) = (if lo > d { (lo - d) * (lo - d) } else { 0.0 }, (hi + d) * (hi + d));
+        let covered = (a - sigma).abs().max((b - sigma).abs()) < radius && enough_extra;
+        if covered || all_found {
+            break (pairs, keep);
+        }
+        if attempt >= MAX_DOUBLINGS || k >= dim {
+            return Err(JpError::Eigen {
+                what: format!(
+                    "shift-invert Arnoldi of (31): {nconv} of {k} eigenpairs converged, nearest-to-shift disc radius {radius:.4e} does not cover the band's lambda range [{a:.4e}, {b:.4e}] around sigma = {sigma:.4e}"
+                ),
+            });
+        }
+        attempt += 1;
+        k = (2 * k).min(dim);
+    };
+
+    let mut keep = keep;
+    keep.sort_by(|&x, &y| pairs[x].lambda.re.total_cmp(&pairs[y].lambda.re));
+    let m = keep.len();
+    let mut v_re = Mat::<f64>::zeros(dim, m);
+    let mut v_im = Mat::<f64>::zeros(dim, m);
+    let mut eigenvalues = Vec::with_capacity(m);
+    for (col, &j) in keep.iter().enumerate() {
+        let p = &pairs[j];
+        let res = residual(&problem, p);
+        if res.is_nan() || res >= RESIDUAL_TOLERANCE {
+            return Err(JpError::Eigen { what: format!("shift-invert eigenpair lambda = {:.6e}{:+.3e}i of (31): relative residual {res:.2e}", p.lambda.re, p.lambda.im) });
+        }
+        for i in 0..dim {
+            v_re[(i, col)] = p.v[i].re;
+            v_im[(i, col)] = p.v[i].im;
+        }
+        eigenvalues.push((p.lambda.re, p.lambda.im));
+    }
+    Ok((eigenvalues, v_re, v_im))
+}
