@@ -124,18 +124,14 @@ pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64,
     let mut at = a.transpose().to_owned();
     l.as_ref().solve_lower_triangular_in_place(at.as_mut());
     let sym = Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
-    let evd = sym.self_adjoint_eigen(Side::Lower).map_err(|e| JpError::Eigen { what: format!("stuck modes: {e:?}") })?;
-    let s = evd.S().column_vector();
     let centre = 0.5 * (band.0 + band.1);
-    let best = (0..n)
-        .min_by(|&x, &y| (s[x].max(0.0).sqrt() - centre).abs().total_cmp(&(s[y].max(0.0).sqrt() - centre).abs()))
-        .ok_or_else(|| JpError::Eigen { what: "empty model".into() })?;
-    let mut v = evd.U().subcols(best, 1).to_owned();
+    let (lambda, u) = crate::linalg::symmetric_eigenpair_nearest(&sym, centre * centre, "stuck modes")?;
+    let mut v = Mat::from_fn(n, 1, |i, _| u[i]);
     l.transpose().solve_upper_triangular_in_place(v.as_mut());
     let mut phi: Vec<f64> = (0..n).map(|i| v[(i, 0)]).collect();
     let nrm = norm2(&phi);
     phi.iter_mut().for_each(|x| *x /= nrm);
-    Ok((s[best].max(0.0).sqrt(), phi))
+    Ok((lambda.max(0.0).sqrt(), phi))
 }
 
 /// `K` with the stuck contact stiffness added on the contact coordinates.
