@@ -45,6 +45,7 @@ pub enum Legend {
     UpperLeft,
     LowerLeft,
     LowerRight,
+    MiddleRight,
 }
 
 /// Axes, titles and scales of a plot.
@@ -183,6 +184,7 @@ pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()>
                     Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
                     Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
                     Legend::LowerRight => SeriesLabelPosition::LowerRight,
+                    Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
                 })
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)

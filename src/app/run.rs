@@ -1,6 +1,7 @@
-//! Runs a [`Study`]: builds the model (built-in blade + Craig-Bampton), sweeps the band with
-//! the condensed full-order solver and the FR and NLR reduced models at each excitation level,
-//! evaluates the error predictor, and writes CSV, JSON and SVG results.
+//! Runs a [`Study`]: builds the model (built-in blade, or Matrix Market `M`, `K` with a node/DoF
+//! map, then Craig-Bampton), sweeps the band with the condensed full-order solver and the FR
+//! and NLR reduced models at each excitation level, evaluates the error predictor, optionally
+//! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
 use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
@@ -457,7 +458,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
             series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
-            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
             rows.push(SolverRow {
                 level,
                 solver: "FO (condensed)".into(),
@@ -543,7 +544,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                         .map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs() / total.max(f64::MIN_POSITIVE))
                         .fold(0.0, f64::max),
                 );
-                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
                     let label = name.to_string();
                     match err_points.iter_mut().find(|(l, _)| *l == label) {
@@ -580,12 +581,12 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     if study.output.plots {
         for (level, series) in &frf_series {
             let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
             write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
         for (level, series) in &energy_series {
             let title = format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
             write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
         if !err_points.is_empty() {
