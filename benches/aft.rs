@@ -6,52 +6,10 @@
 //! Run: `cargo bench --bench aft`.
 
 use jprom::aft::{evaluate_contacts_with, AftBackend, AftPlan, ContactForces, Threading};
-use jprom::contact::{ContactLaw, ContactState};
-use std::time::Instant;
+use jprom::contact::ContactState;
+mod common;
 
-/// Deterministic pseudo-random numbers in [-1, 1) (no dev-dependency needed in a bench).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
-
-fn setup(n_contacts: usize, nc: usize) -> (Vec<ContactLaw>, Vec<usize>, usize, Vec<f64>) {
-    let laws = vec![ContactLaw::Friction3D { kt1: 1.0, kt2: 0.8, kn: 1.5, mu: 0.4, n0: 1.0 }; n_contacts];
-    let offsets: Vec<usize> = (0..n_contacts).map(|c| 3 * c).collect();
-    let n_w = 3 * n_contacts;
-    let mut rng = Lcg(12345);
-    let mut w = vec![0.0; nc * n_w];
-    for c in 0..n_contacts {
-        let amp = 0.1 + 1.5 * (rng.next() + 1.0) / 2.0;
-        for k in 0..nc {
-            let decay = if k == 0 { 0.3 } else { 1.0 / ((k + 1) / 2) as f64 };
-            for i in 0..3 {
-                let scale = if i == 2 { 0.6 } else { amp };
-                w[k * n_w + 3 * c + i] = scale * decay * rng.next();
-            }
-        }
-    }
-    (laws, offsets, n_w, w)
-}
-
-fn time_per_call(mut f: impl FnMut(), min_secs: f64) -> f64 {
-    f();
-    let mut reps = 1;
-    loop {
-        let t = Instant::now();
-        for _ in 0..reps {
-            f();
-        }
-        let dt = t.elapsed().as_secs_f64();
-        if dt > min_secs {
-            return dt / reps as f64;
-        }
-        reps *= 2;
-    }
-}
+use common::{aft_setup as setup, time_per_call};
 
 fn main() {
     println!("threads available to rayon: {}", rayon::current_num_threads());

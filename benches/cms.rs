@@ -6,18 +6,11 @@
 //! only, unless `JPROM_BENCH_LARGE=1` (its Craig-Bampton needs the dense `n_i x n_b`
 //! constraint modes, several GB: see the report in the cms module doc).
 
+mod common;
+
+use common::vm_hwm_mb;
 use jprom::cms::{BladeParams, BuiltinBlade, CbOptions};
 use std::time::Instant;
-
-fn vm_hwm_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .map(|kb| kb / 1024.0)
-        .unwrap_or(f64::NAN)
-}
 
 fn run_case(refinement: usize, do_cb: bool) {
     let p = BladeParams { refinement, ..Default::default() };

@@ -6,9 +6,11 @@
 //! `cargo bench --bench hbm` prints a table. `JPROM_BENCH_LARGE=1` adds a synthetic
 //! 1,800-contact case at H = 1 (condensed Jacobian 16,200 x 16,200: about 2.1 GB).
 
+mod common;
+
+use common::{blade_model, vm_hwm_mb};
 use faer::Mat;
 use jprom::aft::AftPlan;
-use jprom::cms::{BladeParams, BuiltinBlade};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use jprom::hbm::residual::{evaluate, ResidualWorkspace};
@@ -16,25 +18,6 @@ use jprom::hbm::{sweep, HarmonicSystem, HbmOptions, SweepOptions};
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use std::ops::ControlFlow;
 use std::time::Instant;
-
-fn vm_hwm_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .map(|kb| kb / 1024.0)
-        .unwrap_or(f64::NAN)
-}
-
-fn blade_model(refinement: usize, scale: f64) -> Model {
-    let fe = BuiltinBlade::build(&BladeParams { refinement, ..Default::default() }).expect("blade");
-    let cb = fe.reduce(50).expect("CB");
-    let omega = 2.0 * std::f64::consts::PI * 2165.0;
-    let mut m = cb.to_model(Damping::from_modal_ratio(0.002, omega)).expect("model");
-    m.excitation.dynamic_scale = scale;
-    m
-}
 
 /// `n` masses on springs, each pressed on ground by a 3D contact, coupled in a ring.
 fn synthetic_model(n_contacts: usize) -> Model {

@@ -319,3 +319,15 @@ fn auto_resolves_by_size() {
     let o: ModeOptions = serde_json::from_str(r#"{"band":[1.0,2.0],"extra_outside":0}"#).unwrap();
     assert_eq!(o.solver, EigenSolver::Auto);
 }
+
+/// The blade with the band centred on this mesh's stuck first bending (the band of
+/// benches/jp_modes.rs): at H = 3 a harmonic-2 mode is in the band as well.
+#[test]
+fn blade_band_on_stuck_mode() {
+    let b = blade_support::Blade::build();
+    let f = b.omega_stuck / (2.0 * std::f64::consts::PI);
+    let band = (2.0 * std::f64::consts::PI * (f - 25.0), 2.0 * std::f64::consts::PI * (f + 25.0));
+    for h in [1, 3] {
+        check_case("blade centred band stuck", &b.model, band, h, 0.0, 0);
+    }
+}

@@ -59,6 +59,41 @@ fn out_of_range_values_name_their_key() {
 }
 
 #[test]
+fn keys_inside_model_are_named_with_their_line() {
+    let (line, r) = reason("[model]\nkind = \"blade\"\nrefinement = \"fine\"\n");
+    assert!(r.contains("model.refinement") && r.contains("invalid type"), "{r}");
+    assert_eq!(line, 3);
+    let (_, r) = reason("[model]\nkind = \"blade\"\nrefinment = 2\n");
+    assert!(r.contains("refinment") && r.contains("unknown field"), "{r}");
+    let (_, r) = reason("[model]\nkind = \"blade\"\n[model.contact]\nmu = \"high\"\n");
+    assert!(r.contains("model.contact.mu"), "{r}");
+    // keys of the other kind
+    let (_, r) = reason("[model]\nkind = \"blade\"\nmass = \"M.mtx\"\n");
+    assert!(r.contains("model.mass") && r.contains("blade"), "{r}");
+    let (_, r) = reason("[model]\nkind = \"matrix_market\"\nstiffness = \"K.mtx\"\ndof_map = \"n.json\"\n");
+    assert!(r.contains("model.mass") && r.contains("required"), "{r}");
+}
+
+#[test]
+fn gamma_study_values_name_their_key() {
+    let (_, r) = reason("[model]\nkind = \"blade\"\n[basis]\ngamma_study = [100.0, 0.5]\n");
+    assert!(r.contains("basis.gamma_study[1]"), "{r}");
+    let (_, r) = reason("[model]\nkind = \"blade\"\n[basis]\ngamma_study = [100.0]\n[solvers]\nfull_order = false\n");
+    assert!(r.contains("basis.gamma_study") && r.contains("full_order"), "{r}");
+    let s = Study::from_toml_str("[model]\nkind = \"blade\"\n[basis]\ngamma_study = [10.0, 1e4]\n").unwrap();
+    assert_eq!(s.basis.gamma_study, vec![10.0, 1e4]);
+}
+
+#[test]
+fn a_study_prints_and_reads_back_the_same() {
+    for text in ["[model]\nkind = \"blade\"\n", "[model]\nkind = \"matrix_market\"\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"\ndof_map = \"n.json\"\noutput_nodes = [7]\n[[model.contacts]]\nnodes = [1]\nnormal = [0.0, 0.0, 1.0]\n[[forcing.harmonic]]\nnodes = [7]\ndirection = [1.0, 0.0, 0.0]\nmagnitude = 2.0\n"] {
+        let s = Study::from_toml_str(text).unwrap();
+        let again = Study::from_toml_str(&toml::to_string_pretty(&s).unwrap()).unwrap();
+        assert_eq!(s, again);
+    }
+}
+
+#[test]
 fn json_studies_name_the_key_too() {
     let e = Study::from_json_str(r#"{"model": {"kind": "blade"}, "band": {"points": "many"}}"#).unwrap_err();
     match e {

@@ -11,17 +11,41 @@ use std::path::Path;
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
-    /// Draw markers instead of a line.
+    /// Draw markers (circles) instead of a line.
     pub markers: bool,
+    /// Draw a line with small square markers (overrides `markers`).
+    pub line_and_markers: bool,
+    /// Palette index; default: the series' position.
+    pub color: Option<usize>,
 }
 
 impl Series {
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, markers: false }
+        Series { label: label.into(), points, markers: false, line_and_markers: false, color: None }
     }
     pub fn markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, markers: true }
+        Series { label: label.into(), points, markers: true, line_and_markers: false, color: None }
     }
+    /// A line through square markers.
+    pub fn line_and_markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series { label: label.into(), points, markers: false, line_and_markers: true, color: None }
+    }
+    /// The same series in palette colour `i`.
+    pub fn color(mut self, i: usize) -> Self {
+        self.color = Some(i);
+        self
+    }
+}
+
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Legend {
+    #[default]
+    UpperRight,
+    UpperLeft,
+    LowerLeft,
+    LowerRight,
+    MiddleRight,
 }
 
 /// Axes, titles and scales of a plot.
@@ -34,6 +58,8 @@ pub struct PlotSpec<'a> {
     pub log_y: bool,
     /// Draw the line `y = x` (for predicted vs actual error).
     pub diagonal: bool,
+    /// Legend position.
+    pub legend: Legend,
 }
 
 const PALETTE: [RGBColor; 6] = [
@@ -67,6 +93,20 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// Tick label: short scientific notation on log axes (`1e-5`, `2e-3`), plain otherwise.
+fn tick(v: f64, log: bool) -> String {
+    if !log {
+        let a = v.abs();
+        return if a != 0.0 && (a >= 1e5 || a < 1e-3) { format!("{v:.1e}") } else { format!("{}", (v * 1e6).round() / 1e6) };
+    }
+    let e = v.log10().round();
+    if (v / 10f64.powf(e) - 1.0).abs() < 1e-6 {
+        format!("1e{}", e as i32)
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
 /// Writes an SVG line/marker plot of `series` to `path`.
 ///
 /// # Errors
@@ -91,6 +131,8 @@ pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()>
                 .configure_mesh()
                 .x_desc(spec.x_label)
                 .y_desc(spec.y_label)
+                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x))
+                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             if spec.diagonal {
@@ -101,14 +143,27 @@ pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()>
                     .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
             }
             for (i, s) in series.iter().enumerate() {
-                let color = PALETTE[i % PALETTE.len()];
+                let color = PALETTE[s.color.unwrap_or(i) % PALETTE.len()];
                 let pts: Vec<(f64, f64)> = s
                     .points
                     .iter()
                     .copied()
                     .filter(|p| p.0.is_finite() && p.1.is_finite() && (!spec.log_x || p.0 > 0.0) && (!spec.log_y || p.1 > 0.0))
                     .collect();
-                if s.markers {
+                if s.line_and_markers {
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                        .map_err(|e| plot_err(path, e))?
+                        .label(s.label.as_str())
+                        .legend(move |(x, y)| {
+                            EmptyElement::at((x, y))
+                                + PathElement::new(vec![(0, 0), (18, 0)], color.stroke_width(2))
+                                + Rectangle::new([(6, -3), (12, 3)], color.filled())
+                        });
+                    chart
+                        .draw_series(pts.iter().map(|&p| EmptyElement::at(p) + Rectangle::new([(-3, -3), (3, 3)], color.filled())))
+                        .map_err(|e| plot_err(path, e))?;
+                } else if s.markers {
                     chart
                         .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
                         .map_err(|e| plot_err(path, e))?
@@ -124,6 +179,13 @@ pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()>
             }
             chart
                 .configure_series_labels()
+                .position(match spec.legend {
+                    Legend::UpperRight => SeriesLabelPosition::UpperRight,
+                    Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+                    Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+                    Legend::LowerRight => SeriesLabelPosition::LowerRight,
+                    Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
+                })
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .draw()

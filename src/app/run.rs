@@ -1,17 +1,22 @@
-//! Runs a [`Study`]: builds the model (built-in blade + Craig-Bampton), sweeps the band with
-//! the condensed full-order solver and the FR and NLR reduced models at each excitation level,
-//! evaluates the error predictor, and writes CSV, JSON and SVG results.
+//! Runs a [`Study`]: builds the model (built-in blade, or Matrix Market `M`, `K` with a node/DoF
+//! map, then Craig-Bampton), sweeps the band with the condensed full-order solver and the FR
+//! and NLR reduced models at each excitation level, evaluates the error predictor, optionally
+//! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
-use super::plots::{write_plot, PlotSpec, Series};
+use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
 use crate::aft::AftPlan;
-use crate::cms::{BladeParams, BuiltinBlade};
+use crate::cms::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
+use crate::contact::Contact;
+use crate::io::dof_map::DofMap;
+use crate::io::matrix_market::read_matrix_market;
 use crate::condensation::CondensedSystem;
 use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
 use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
 use crate::jp::prediction::PredictionOptions;
+use crate::jp::{predict_basis, JpBasis};
 use crate::model::{ContactCoordinates, Damping, Model};
 use crate::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use faer::c64;
@@ -53,6 +58,86 @@ pub struct SolverRow {
     pub energy_error: Option<f64>,
 }
 
+/// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
+/// full-order resonance.
+#[derive(Clone, Debug, Serialize)]
+pub struct BasisStudyRow {
+    pub level: f64,
+    pub solver: String,
+    pub gamma: f64,
+    /// `n_0, n_1, ...`.
+    pub sizes: Vec<usize>,
+    /// Relative errors of `X1`, `X0` at the first output (`None`: the ROM did not converge).
+    pub error_x1: Option<f64>,
+    pub error_x0: Option<f64>,
+    /// Predicted `e*_1` and actual `e_1`.
+    pub predicted_e1: Option<f64>,
+    pub actual_e1: Option<f64>,
+}
+
+/// The basis of `basis` conditioned with a smaller `gamma`: (38) keeps the left singular
+/// vectors whose singular value is at least `s_max / gamma`, and `basis` holds the leading
+/// ones of the same SVD with all singular values, so this is a column truncation, identical to
+/// predicting the basis again with `gamma`.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] if `gamma` exceeds the basis' own.
+pub fn reconditioned(basis: &JpBasis, gamma: f64) -> Result<JpBasis> {
+    if !(gamma >= 1.0 && gamma <= basis.gamma) {
+        return Err(JpError::invalid("gamma", format!("must be in [1, {}] to re-condition this basis, got {gamma}", basis.gamma)));
+    }
+    let mut out = basis.clone();
+    out.gamma = gamma;
+    for (h, (phi, sv)) in basis.phi.iter().zip(&basis.singular_values).enumerate() {
+        let s_max = sv.first().copied().unwrap_or(0.0);
+        let keep = if s_max > 0.0 { sv.iter().take_while(|&&x| x >= s_max / gamma).count().min(phi.ncols()) } else { 0 };
+        out.phi[h] = phi.as_ref().subcols(0, keep).to_owned();
+        out.sizes[h] = keep;
+    }
+    Ok(out)
+}
+
+/// Error vs basis size at one level: one basis predicted with the largest `gamma` of
+/// `basis.gamma_study`, re-conditioned to each, and each ROM solved at the full-order
+/// resonance `fo` (from zero: no sweep). A ROM that does not converge gives a row without errors.
+#[allow(clippy::too_many_arguments)]
+fn gamma_study(
+    study: &Study,
+    coords: &ContactCoordinates,
+    condensed: &CondensedSystem,
+    popts: &PredictionOptions,
+    hopts: &HbmOptions,
+    plan: &AftPlan,
+    fo: &PointSolution,
+    level: f64,
+    kinds: &[(&str, RomKind)],
+) -> Result<Vec<BasisStudyRow>> {
+    let mut gammas = study.basis.gamma_study.clone();
+    gammas.sort_by(f64::total_cmp);
+    gammas.dedup();
+    let g_max = *gammas.last().expect("a gamma");
+    let (big, _) = predict_basis(coords, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
+    let mut out = Vec::new();
+    for &g in &gammas {
+        let basis = reconditioned(&big, g)?;
+        for &(name, kind) in kinds {
+            let rom: Box<dyn ReducedModel> = match kind {
+                RomKind::Fr => Box::new(FrRom::new(coords, &basis)?),
+                RomKind::Nlr => Box::new(NlrRom::new(condensed, &basis)?),
+            };
+            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: basis.sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
+            if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
+                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
+                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+                row.predicted_e1 = predicted_error(rom.as_ref(), plan, r.omega, &r.z)?.get(1).copied();
+                row.actual_e1 = actual_error(rom.as_ref(), plan, r.omega, &r.z, fo)?.get(1).copied();
+            }
+            out.push(row);
+        }
+    }
+    Ok(out)
+}
+
 /// What a study produced.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSummary {
@@ -64,6 +149,10 @@ pub struct RunSummary {
     pub alpha_st: f64,
     pub build_seconds: f64,
     pub rows: Vec<SolverRow>,
+    /// The error-vs-basis-size study (`basis.gamma_study`), empty if not asked for.
+    pub basis_study: Vec<BasisStudyRow>,
+    /// Seconds spent on it (all levels).
+    pub basis_study_seconds: f64,
 }
 
 fn progress(len: u64, what: &str, show: bool) -> ProgressBar {
@@ -76,8 +165,8 @@ fn progress(len: u64, what: &str, show: bool) -> ProgressBar {
 /// Builds the study's model.
 ///
 /// # Errors
-/// The blade builder's and Craig-Bampton's errors; [`JpError::InvalidValue`] for a Matrix
-/// Market model (the runner takes the built-in blade only, see the README).
+/// The blade builder's and Craig-Bampton's errors; for a Matrix Market model, as
+/// [`build_matrix_market_model`].
 pub fn build_model(study: &Study) -> Result<Model> {
     match &study.model {
         ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
@@ -87,11 +176,114 @@ pub fn build_model(study: &Study) -> Result<Model> {
             let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
             cb.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
         }
-        ModelSpec::MatrixMarket { .. } => Err(JpError::invalid(
-            "model.kind",
-            "matrix_market studies are not run by this version of the CLI: build the model with the library (io::matrix_market, cms::CraigBampton) and call hbm/rom directly",
-        )),
+        ModelSpec::MatrixMarket { .. } => build_matrix_market_model(study),
     }
+}
+
+/// Prefixes an error with the study key it came from (file reading).
+fn with_key(key: &str, e: JpError) -> JpError {
+    match e {
+        JpError::Io { path, reason } => JpError::Io { path, reason: format!("key '{key}': {reason}") },
+        JpError::Parse { path, line, reason } => JpError::Parse { path, line, reason: format!("key '{key}': {reason}") },
+        other => JpError::invalid(key, other.to_string()),
+    }
+}
+
+/// A Matrix Market study's model: reads `M`, `K` and the DoF map, places the contacts, loads
+/// and outputs on node ids, and reduces by Craig-Bampton keeping the contact nodes (in
+/// `[[model.contacts]]` order), then the loaded nodes, then the output nodes, plus
+/// `cb_modes` fixed-interface modes. Loads act on boundary DoFs only, so the reduced loads are
+/// exact without the constraint modes (which are not kept).
+///
+/// # Errors
+/// File errors name the key (`model.mass`, ...), unknown node ids name the key listing them
+/// (`model.contacts[0].nodes`, ...); Craig-Bampton's and [`Model::new`]'s errors.
+pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
+    let ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } = &study.model else {
+        return Err(JpError::invalid("model.kind", "not a matrix_market model"));
+    };
+    let m = read_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
+    let k = read_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
+    let n = k.nrows();
+    if k.ncols() != n {
+        return Err(JpError::invalid("model.stiffness", format!("{}: not square ({} x {})", stiffness.display(), n, k.ncols())));
+    }
+    if m.nrows() != n || m.ncols() != n {
+        return Err(JpError::invalid("model.mass", format!("{}: {} x {}, but the stiffness is {n} x {n}", mass.display(), m.nrows(), m.ncols())));
+    }
+    let map = DofMap::load(dof_map).map_err(|e| with_key("model.dof_map", e))?;
+    if map.n_dof != n {
+        return Err(JpError::invalid("model.dof_map", format!("{}: n_dof {} but the matrices are {n} x {n}", dof_map.display(), map.n_dof)));
+    }
+    let node = |key: &str, id: i64| -> Result<[usize; 3]> {
+        map.nodes
+            .iter()
+            .find(|nd| nd.id == id)
+            .map(|nd| nd.dofs)
+            .ok_or_else(|| JpError::invalid(key, format!("no node with id {id} in the dof map {}", dof_map.display())))
+    };
+    // boundary nodes: contacts, then loaded, then output nodes (each once)
+    let mut boundary_nodes: Vec<i64> = Vec::new();
+    let mut contact_list = Vec::new();
+    for (i, set) in contacts.iter().enumerate() {
+        let key = format!("model.contacts[{i}].nodes");
+        let frame = set.frame().map_err(|r| JpError::invalid(format!("model.contacts[{i}].normal"), r))?;
+        let law = ContactLaw::Friction3D { kt1: set.kt1, kt2: set.kt2, kn: set.kn, mu: set.mu, n0: set.n0 };
+        for &id in &set.nodes {
+            node(&key, id)?;
+            if boundary_nodes.contains(&id) {
+                return Err(JpError::invalid(key, format!("node {id} is a contact node twice")));
+            }
+            contact_list.push((boundary_nodes.len(), frame, law.clone()));
+            boundary_nodes.push(id);
+        }
+    }
+    let loads = [("static", &study.forcing.static_loads), ("harmonic", &study.forcing.harmonic_loads)];
+    for (name, set) in loads {
+        for (i, l) in set.iter().enumerate() {
+            for &id in &l.nodes {
+                node(&format!("forcing.{name}[{i}].nodes"), id)?;
+                if !boundary_nodes.contains(&id) {
+                    boundary_nodes.push(id);
+                }
+            }
+        }
+    }
+    for &id in output_nodes {
+        node("model.output_nodes", id)?;
+        if !boundary_nodes.contains(&id) {
+            boundary_nodes.push(id);
+        }
+    }
+    let pos = |id: i64| boundary_nodes.iter().position(|&b| b == id).expect("a boundary node");
+    let mut boundary = Vec::with_capacity(3 * boundary_nodes.len());
+    for &id in &boundary_nodes {
+        boundary.extend(node("model", id)?);
+    }
+    let cb = CraigBampton::reduce(&k, &m, &boundary, CbOptions { n_modes: *cb_modes, keep_recovery: false })?;
+    let n_red = cb.n_reduced();
+    let mut forces = [vec![0.0; n_red], vec![0.0; n_red]];
+    for ((name, set), f) in loads.into_iter().zip(forces.iter_mut()) {
+        for (i, l) in set.iter().enumerate() {
+            let v = l.vector().map_err(|r| JpError::invalid(format!("forcing.{name}[{i}].direction"), r))?;
+            for &id in &l.nodes {
+                let p = pos(id);
+                for a in 0..3 {
+                    f[3 * p + a] += v[a];
+                }
+            }
+        }
+    }
+    let [static_force, harmonic_force] = forces;
+    let model = CbModel {
+        contacts: contact_list.into_iter().map(|(p, frame, law)| Contact::ground_3d([3 * p, 3 * p + 1, 3 * p + 2], frame, law)).collect(),
+        output_dofs: output_nodes.iter().flat_map(|&id| output_components.iter().map(move |c| (id, c.index()))).map(|(id, a)| 3 * pos(id) + a).collect(),
+        cb,
+        static_force,
+        harmonic_force,
+    };
+    let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+    model.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
 }
 
 /// The dynamic scale at which the linear stuck response at the stuck resonance `omega_st`
@@ -176,6 +368,31 @@ fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Res
     Ok(())
 }
 
+fn write_basis_study_csv(path: &Path, rows: &[BasisStudyRow]) -> Result<()> {
+    let io = |e: std::io::Error| JpError::Io { path: path.display().to_string(), reason: e.to_string() };
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+    writeln!(f, "level,solver,gamma,n_0,n_1,error_x1,error_x0,e_star_1,e_1").map_err(io)?;
+    let opt = |v: Option<f64>| v.map(|x| format!("{x:.4e}")).unwrap_or_default();
+    for r in rows {
+        let n = |h: usize| r.sizes.get(h).copied().unwrap_or(0);
+        writeln!(
+            f,
+            "{:e},{},{:e},{},{},{},{},{},{}",
+            r.level,
+            r.solver,
+            r.gamma,
+            n(0),
+            n(1),
+            opt(r.error_x1),
+            opt(r.error_x0),
+            opt(r.predicted_e1),
+            opt(r.actual_e1)
+        )
+        .map_err(io)?;
+    }
+    Ok(())
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
 }
@@ -216,6 +433,8 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
     let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    let mut basis_study: Vec<BasisStudyRow> = Vec::new();
+    let mut basis_study_seconds = 0.0;
 
     for &level in &study.forcing.levels {
         model.excitation.dynamic_scale = s_st / level;
@@ -239,7 +458,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
             series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
-            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
             rows.push(SolverRow {
                 level,
                 solver: "FO (condensed)".into(),
@@ -269,7 +488,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             .filter(|k| k.2)
             .map(|k| (k.0, k.1))
             .collect();
-        for (name, kind) in kinds {
+        for &(name, kind) in &kinds {
             // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
             // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
             let bar = progress(1, &format!("{name}: basis + sweep, level {level:e}"), show_progress);
@@ -325,7 +544,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                         .map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs() / total.max(f64::MIN_POSITIVE))
                         .fold(0.0, f64::max),
                 );
-                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy.max(1e-30))).collect()));
+                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
                     let label = name.to_string();
                     match err_points.iter_mut().find(|(l, _)| *l == label) {
@@ -335,6 +554,13 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 }
             }
             rows.push(row);
+        }
+        if let (Some(fo), false) = (&fo_peak, study.basis.gamma_study.is_empty()) {
+            let bar = progress(1, &format!("gamma study, level {level:e}"), show_progress);
+            let t = Instant::now();
+            basis_study.extend(gamma_study(study, &coords, &condensed, &popts, &hopts, &plan, fo, level, &kinds)?);
+            basis_study_seconds += t.elapsed().as_secs_f64();
+            bar.finish_and_clear();
         }
         frf_series.push((level, series));
         energy_series.push((level, energies));
@@ -347,23 +573,36 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         alpha_st,
         build_seconds,
         rows,
+        basis_study,
+        basis_study_seconds,
     };
     let json = serde_json::to_string_pretty(&summary).map_err(|e| JpError::Io { path: "summary.json".into(), reason: e.to_string() })?;
     std::fs::write(out_dir.join("summary.json"), json).map_err(|e| JpError::Io { path: out_dir.join("summary.json").display().to_string(), reason: e.to_string() })?;
     if study.output.plots {
         for (level, series) in &frf_series {
             let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: true, diagonal: false };
+            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
             write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
         for (level, series) in &energy_series {
             let title = format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: true, diagonal: false };
+            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
             write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
         if !err_points.is_empty() {
-            let series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
-            let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true };
+            let mut series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
+            for solver in ["FR", "NLR"] {
+                let pts: Vec<(f64, f64)> = summary
+                    .basis_study
+                    .iter()
+                    .filter(|r| r.solver == solver)
+                    .filter_map(|r| Some((r.actual_e1?, r.predicted_e1?)))
+                    .collect();
+                if !pts.is_empty() {
+                    series.push(Series::markers(format!("{solver}, gamma study"), pts));
+                }
+            }
+            let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at the FO resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
             write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
             let mut by_solver: Vec<Series> = Vec::new();
             for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
@@ -373,9 +612,41 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                     None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
                 }
             }
-            let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false };
+            let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
             write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
         }
+        for &level in &study.forcing.levels {
+            let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
+            if rows.is_empty() {
+                continue;
+            }
+            // per solver one colour: |X1| error (line), actual e_1 (line + squares), e*_1 (circles)
+            let mut series: Vec<Series> = Vec::new();
+            for (color, solver) in [(1usize, "FR"), (2, "NLR")] {
+                for (style, what, get) in [
+                    (0, "error of |X1|", (|r: &BasisStudyRow| r.error_x1) as fn(&BasisStudyRow) -> Option<f64>),
+                    (1, "actual e_1", |r: &BasisStudyRow| r.actual_e1),
+                    (2, "predicted e*_1", |r: &BasisStudyRow| r.predicted_e1),
+                ] {
+                    let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.solver == solver).filter_map(|r| get(r).map(|e| (r.sizes.get(1).copied().unwrap_or(0) as f64, e.max(1e-16)))).collect();
+                    if !pts.is_empty() {
+                        let label = format!("{solver}: {what}");
+                        let s = match style {
+                            0 => Series::line(label, pts),
+                            1 => Series::line_and_markers(label, pts),
+                            _ => Series::markers(label, pts),
+                        };
+                        series.push(s.color(color));
+                    }
+                }
+            }
+            let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}");
+            let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+            write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
+        }
+    }
+    if !summary.basis_study.is_empty() {
+        write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;
     }
     Ok(summary)
 }
@@ -408,6 +679,23 @@ pub fn summary_table(s: &RunSummary) -> String {
             opt(r.actual_e1),
             opt(r.energy_error)
         ));
+    }
+    if !s.basis_study.is_empty() {
+        out.push_str(&format!("error vs basis size at the FO resonance (basis.gamma_study, {:.1} s):\n", s.basis_study_seconds));
+        out.push_str(&format!("{:>10} {:<6} {:>8} {:>14} {:>9} {:>9} {:>9} {:>9}\n", "a/a_ST", "solver", "gamma", "n_h", "err X1", "err X0", "e*_1", "e_1"));
+        for r in &s.basis_study {
+            out.push_str(&format!(
+                "{:>10.1e} {:<6} {:>8.1e} {:>14} {:>9} {:>9} {:>9} {:>9}\n",
+                r.level,
+                r.solver,
+                r.gamma,
+                format!("{:?}", r.sizes),
+                opt(r.error_x1),
+                opt(r.error_x0),
+                opt(r.predicted_e1),
+                opt(r.actual_e1)
+            ));
+        }
     }
     out
 }

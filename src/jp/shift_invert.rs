@@ -51,11 +51,9 @@ pub type Eigenpairs = (Vec<(f64, f64)>, Mat<f64>, Mat<f64>);
 
 /// Relative tolerance of the Krylov-Schur residual (on the operator scaled to unit norm).
 pub const ARNOLDI_TOLERANCE: f64 = 1e-12;
-/// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)` of a
-/// kept eigenpair.
+/// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v| + f)` of a
+/// kept eigenpair, `f` the rounding floor of the products (see `residuals`).
 pub const RESIDUAL_TOLERANCE: f64 = 1e-6;
-/// Inverse-iteration steps applied to the converged eigenvectors ([`refine`]).
-pub const REFINEMENT_STEPS: usize = 2;
 /// Eigenpairs requested at first; doubled until the band is covered.
 pub const INITIAL_REQUEST: usize = 16;
 /// Number of doublings of the request before giving up.
@@ -149,6 +147,29 @@ impl<'a> CondensedProblem<'a> {
             }
         }
         out
+    }
+
+    /// `(| |K_JC| |v| |, | |M_JC| |v| |)` for a complex `v` (the rounding scale of the products).
+    fn abs_products(&self, v: &[c64]) -> (f64, f64) {
+        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let nj = 2 * self.harmonics;
+        let a = Mat::from_fn(nj * n, 1, |i, _| v[i].re.hypot(v[i].im));
+        let kabs = Mat::from_fn(n, n, |i, j| self.coords.stiffness[(i, j)].abs());
+        let mabs = Mat::from_fn(n, n, |i, j| self.coords.mass[(i, j)].abs());
+        let sabs = Mat::from_fn(nj * nw, nj * nw, |i, j| self.s[(i, j)].abs());
+        let (mut k2, mut m2) = (0.0, 0.0);
+        let sa = &sabs * gather_w(a.as_ref(), n, nw, nj);
+        for c in 0..nj {
+            let h = (c / 2 + 1) as f64;
+            let ac = a.as_ref().submatrix(c * n, 0, n, 1);
+            let mut kc = &kabs * ac;
+            for i in 0..nw {
+                kc[(i, 0)] += sa[(c * nw + i, 0)];
+            }
+            k2 += kc.norm_l2().powi(2);
+            m2 += (h * h * (&mabs * ac).norm_l2()).powi(2);
+        }
+        (k2.sqrt(), m2.sqrt())
     }
 
     /// `M_JC x`.
@@ -369,8 +390,11 @@ fn normalised(v: Vec<c64>) -> Vec<c64> {
     v.into_iter().map(|z| c64::new(z.re / s, z.im / s)).collect()
 }
 
-/// Relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)`.
-fn residual(problem: &CondensedProblem<'_>, p: &Pair) -> f64 {
+/// Relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)`, and the same quantity
+/// with the rounding floor of the products, `u (| |K_JC| |v| | + |λ| | |M_JC| |v| |)` (`u` the unit
+/// round-off times `sqrt(n)`), in the denominator: on stiff models (`|K| >> λ |M|` on the
+/// contact coordinates) the computed residual of even an exact eigenvector is at that floor.
+fn residuals(problem: &CondensedProblem<'_>, p: &Pair) -> (f64, f64) {
     let dim = p.v.len();
     let v = Mat::from_fn(dim, 2, |i, j| if j == 0 { p.v[i].re } else { p.v[i].im });
     let kv = problem.apply_shifted(v.as_ref(), 0.0);
@@ -384,7 +408,15 @@ fn residual(problem: &CondensedProblem<'_>, p: &Pair) -> f64 {
         r2 += rr * rr + ri * ri;
     }
     let lam = (lr * lr + li * li).sqrt();
-    r2.sqrt() / (kv.norm_l2() + lam * mv.norm_l2()).max(f64::MIN_POSITIVE)
+    let den = kv.norm_l2() + lam * mv.norm_l2();
+    let (ka, ma) = problem.abs_products(&p.v);
+    let floor = f64::EPSILON * (problem.coords.n_dof as f64).sqrt() * (ka + lam * ma);
+    (r2.sqrt() / den.max(f64::MIN_POSITIVE), r2.sqrt() / (den + floor).max(f64::MIN_POSITIVE))
+}
+
+/// Relative residual of (31) (see [`residuals`]), without the rounding floor.
+fn residual(problem: &CondensedProblem<'_>, p: &Pair) -> f64 {
+    residuals(problem, p).0
 }
 
 /// Residual of `v` against the span of `basis` (complex, orthonormal) relative to `|v|`.
@@ -407,40 +439,71 @@ fn out_of_span(basis: &[Vec<c64>], v: &[c64]) -> (f64, Vec<c64>) {
     (cnorm(&r) / cnorm(v).max(f64::MIN_POSITIVE), r)
 }
 
-/// [`REFINEMENT_STEPS`] steps of inverse iteration `v <- A v` on every pair, and the
-/// eigenvalue from the Rayleigh quotient `θ = v^H A v / v^H v` of the last step
-/// (`λ = σ + 1 / θ`). The Krylov-Schur residual is small relative to the largest `θ`; the stiff
-/// directions of the model (tiny `θ`) can still carry error that is large in the residual of
-/// (31) — one application of `A` damps them by `θ_j / θ`. The Rayleigh quotient also makes
-/// each eigenvalue that of its own vector (whatever the pairing of a complex pair's values and
-/// vectors in the Schur output).
-fn refine(op: &Operator<'_, '_, '_>, sigma: f64, pairs: &mut [Pair]) {
+/// Refines the Arnoldi pairs by Rayleigh-Ritz on `span(A V, A^2 V)`, `V` the real and
+/// imaginary parts of their vectors, for the pencil `(K_JC, M_JC)` itself, and replaces each
+/// pair (most accurate first) by the unused Ritz pair of nearest eigenvalue.
+///
+/// The Krylov-Schur residual is small relative to the largest `θ`: the stiff directions of
+/// the model (tiny `θ`) can carry error that is large in the residual of (31), and when `σ`
+/// nearly coincides with an eigenvalue, the other pairs are comparatively inaccurate. The
+/// applications of `A` damp the stiff directions; the projection resolves the mixing among
+/// the nearby ones (plain inverse iteration `v <- A v` would amplify the eigenvector nearest
+/// `σ` in every other pair).
+fn refine(problem: &CondensedProblem<'_>, op: &Operator<'_, '_, '_>, pairs: &mut [Pair]) -> Result<()> {
     if pairs.is_empty() {
-        return;
+        return Ok(());
     }
     let dim = pairs[0].v.len();
-    for step in 0..REFINEMENT_STEPS {
-        let v = Mat::from_fn(dim, 2 * pairs.len(), |i, j| if j % 2 == 0 { pairs[j / 2].v[i].re } else { pairs[j / 2].v[i].im });
-        let mut w = Mat::<f64>::zeros(dim, v.ncols());
-        op.apply_to(w.as_mut(), v.as_ref());
-        for (k, p) in pairs.iter_mut().enumerate() {
-            let wk: Vec<c64> = (0..dim).map(|i| c64::new(w[(i, 2 * k)], w[(i, 2 * k + 1)])).collect();
-            if step + 1 == REFINEMENT_STEPS {
-                // θ = v^H w (v has unit length), in the unscaled operator.
-                let (mut tr, mut ti) = (0.0, 0.0);
-                for (a, b) in p.v.iter().zip(&wk) {
-                    tr += a.re * b.re + a.im * b.im;
-                    ti += a.re * b.im - a.im * b.re;
-                }
-                let (tr, ti) = (tr / op.scale, ti / op.scale);
-                let m2 = tr * tr + ti * ti;
-                if m2.is_finite() && m2 > 0.0 {
-                    p.lambda = c64::new(sigma + tr / m2, -ti / m2);
-                }
-            }
-            p.v = normalised(wk);
+    let m = pairs.len();
+    let v = Mat::from_fn(dim, 2 * m, |i, j| if j % 2 == 0 { pairs[j / 2].v[i].re } else { pairs[j / 2].v[i].im });
+    let mut x = Mat::<f64>::zeros(dim, 4 * m);
+    op.apply_to(x.as_mut().subcols_mut(0, 2 * m), v.as_ref());
+    let av = x.as_ref().subcols(0, 2 * m).to_owned();
+    op.apply_to(x.as_mut().subcols_mut(2 * m, 2 * m), av.as_ref());
+    for j in 0..x.ncols() {
+        let nrm = x.col(j).norm_l2();
+        if nrm > 0.0 {
+            let mut c = x.col_mut(j);
+            c /= nrm;
         }
     }
+    let svd = x.thin_svd().map_err(|e| JpError::Eigen { what: format!("Rayleigh-Ritz basis: {e:?}") })?;
+    let sv = svd.S().column_vector();
+    let r = (0..sv.nrows()).filter(|&i| sv[i] > 1e-10 * sv[0]).count();
+    let q = svd.U().subcols(0, r).to_owned();
+    let kq = problem.apply_shifted(q.as_ref(), 0.0);
+    let mq = problem.apply_mass(q.as_ref());
+    let kr = q.transpose() * &kq;
+    let mr = q.transpose() * &mq;
+    let mr = Mat::from_fn(r, r, |i, j| 0.5 * (mr[(i, j)] + mr[(j, i)]));
+    let l = mr.llt(faer::Side::Lower).map_err(|_| JpError::Eigen { what: "Rayleigh-Ritz: projected mass not positive definite".into() })?.L().to_owned();
+    let mut b = kr;
+    l.as_ref().solve_lower_triangular_in_place(b.as_mut());
+    let mut bt = b.transpose().to_owned();
+    l.as_ref().solve_lower_triangular_in_place(bt.as_mut());
+    let evd = bt.transpose().to_owned().eigen().map_err(|e| JpError::Eigen { what: format!("Rayleigh-Ritz: {e:?}") })?;
+    let (mu, y) = (evd.S(), evd.U());
+    let mut yre = Mat::from_fn(r, r, |i, k| y[(i, k)].re);
+    let mut yim = Mat::from_fn(r, r, |i, k| y[(i, k)].im);
+    l.transpose().solve_upper_triangular_in_place(yre.as_mut());
+    l.transpose().solve_upper_triangular_in_place(yim.as_mut());
+    let (xre, xim) = (&q * &yre, &q * &yim);
+    let mut used = vec![false; r];
+    for p in pairs.iter_mut() {
+        let best = (0..r)
+            .filter(|&k| !used[k])
+            .min_by(|&a, &b| {
+                let da = (mu[a].re - p.lambda.re).hypot(mu[a].im - p.lambda.im);
+                let db = (mu[b].re - p.lambda.re).hypot(mu[b].im - p.lambda.im);
+                da.total_cmp(&db)
+            });
+        if let Some(k) = best {
+            used[k] = true;
+            p.lambda = c64::new(mu[k].re, mu[k].im);
+            p.v = normalised((0..dim).map(|i| c64::new(xre[(i, k)], xim[(i, k)])).collect());
+        }
+    }
+    Ok(())
 }
 
 /// Adds the missing complex conjugates and time-shift partners `J v` of the found pairs.
@@ -489,7 +552,9 @@ fn complete(problem: &CondensedProblem<'_>, pairs: &mut Vec<Pair>) {
             }
         }
         let cand = Pair { lambda: p.lambda, v: jv };
-        if residual(problem, &cand) < 1e-9 {
+        // J commutes with (31) exactly when the partner is as good an eigenvector as `v`.
+        let res_v = residual(problem, p);
+        if residual(problem, &cand) <= (2.0 * res_v).max(1e-9) {
             // Orthonormal basis of the found eigenvectors of this eigenvalue.
             let mut basis: Vec<Vec<c64>> = Vec::new();
             for q in pairs.iter().filter(|q| close(q.lambda, cand.lambda)) {
@@ -593,7 +658,7 @@ pub fn shift_invert_eigenpairs_with(
             let lambda = c64::new(sigma + th.re / m2, -th.im / m2);
             pairs.push(Pair { lambda, v: normalised((0..dim).map(|i| vecs[(i, j)]).collect()) });
         }
-        refine(&op, sigma, &mut pairs);
+        refine(&problem, &op, &mut pairs)?;
         complete(&problem, &mut pairs);
         let all_found = nconv >= dim;
 
@@ -633,9 +698,11 @@ pub fn shift_invert_eigenpairs_with(
     let mut eigenvalues = Vec::with_capacity(m);
     for (col, &j) in keep.iter().enumerate() {
         let p = &pairs[j];
-        let res = residual(&problem, p);
+        let (raw, res) = residuals(&problem, p);
         if res.is_nan() || res >= RESIDUAL_TOLERANCE {
-            return Err(JpError::Eigen { what: format!("shift-invert eigenpair lambda = {:.6e}{:+.3e}i of (31): relative residual {res:.2e}", p.lambda.re, p.lambda.im) });
+            return Err(JpError::Eigen {
+                what: format!("shift-invert eigenpair lambda = {:.6e}{:+.3e}i of (31): relative residual {raw:.2e} ({res:.2e} with the rounding floor)", p.lambda.re, p.lambda.im),
+            });
         }
         for i in 0..dim {
             v_re[(i, col)] = p.v[i].re;
