@@ -106,3 +106,35 @@ fn adaptive_sweep_with_progress_reports_every_point_and_stops_on_request() {
     assert!(stopped.corrections.is_empty());
     assert_eq!(stopped.predicted_errors.len(), 1);
 }
+
+#[test]
+fn prediction_works_without_static_load() {
+    // the C examples' model: a preloaded contact and no static force, so the static solution
+    // is driven by the preload alone (its residual used to be scaled by the zero static load,
+    // and never converged)
+    use faer::Mat;
+    use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
+    use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+    let n = 6;
+    let mut k = Mat::<f64>::zeros(n, n);
+    let mut m = Mat::<f64>::zeros(n, n);
+    for d in 0..3 {
+        m[(d, d)] = 1.0;
+        m[(3 + d, 3 + d)] = 1.0;
+        k[(d, d)] = 2.0e4;
+        k[(3 + d, 3 + d)] = 1.0e4;
+        k[(d, 3 + d)] = -1.0e4;
+        k[(3 + d, d)] = -1.0e4;
+    }
+    let mut fc = vec![0.0; n];
+    fc[0] = 5.0;
+    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: fc, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+    let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
+    let model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap();
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let mut p = PredictionOptions::new((60.0, 160.0));
+    p.n_samples = 10;
+    let (basis, report) = predict_basis(&coords, &p).unwrap();
+    assert!(basis.sizes[1] > 0);
+    assert!(report.static_solution.iter().any(|x| *x != 0.0), "the preload moves the static solution");
+}
