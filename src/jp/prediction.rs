@@ -186,8 +186,10 @@ pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Ve
         }
         (r, forces)
     };
-    let scale = norm2(&coords.static_force).max(f64::MIN_POSITIVE);
     let (mut r, mut forces) = residual(&q, true);
+    // Forces of the problem: the static load, and the contact forces at the start (a preload
+    // acts without any static load; scaling by the load alone made a zero load unsolvable).
+    let scale = norm2(&coords.static_force).max(norm2(&forces.force[..nw])).max(f64::MIN_POSITIVE);
     let mut rn = norm2(&r);
     for _ in 0..60 {
         if rn <= 1e-11 * scale {
