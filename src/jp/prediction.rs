@@ -129,7 +129,9 @@ pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64,
     let mut v = Mat::from_fn(n, 1, |i, _| u[i]);
     l.transpose().solve_upper_triangular_in_place(v.as_mut());
     let mut phi: Vec<f64> = (0..n).map(|i| v[(i, 0)]).collect();
-    let nrm = norm2(&phi);
+    // Unit length, and a sign that does not depend on the solver: largest entry positive.
+    let big = phi.iter().copied().fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
+    let nrm = norm2(&phi).copysign(big);
     phi.iter_mut().for_each(|x| *x /= nrm);
     Ok((lambda.max(0.0).sqrt(), phi))
 }
