@@ -1,6 +1,6 @@
 // jprom from C++: RAII wrappers over the C API (handles freed by destructors, failed calls
-// turned into exceptions carrying the status and message). Same model and sweep as
-// sweep_example.c, same output table.
+// turned into exceptions carrying the status and message). Same model, sweep and JP workflow
+// as sweep_example.c, same output tables.
 //
 // Build (from the repository root, after `cargo build --lib`):
 //   g++ -Wall -Werror -std=c++17 -Iinclude examples-c/cpp_raii.cpp
@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jprom.h"
@@ -30,6 +31,24 @@ inline void check(jprom_status s, const char *what) {
 // unique_ptr deleters calling the matching *_free (which accepts NULL).
 struct ModelFree { void operator()(jprom_model *p) const { jprom_model_free(p); } };
 struct SweepFree { void operator()(jprom_sweep_result *p) const { jprom_sweep_free(p); } };
+struct BasisFree { void operator()(jprom_basis *p) const { jprom_basis_free(p); } };
+
+// A JP basis: sizes n_h, h = 0..H.
+class Basis {
+  public:
+    explicit Basis(jprom_basis *p) : p_(p) {}
+    std::vector<size_t> sizes() const {
+        size_t h = 0;
+        std::vector<size_t> n(64);
+        check(jprom_basis_sizes(p_.get(), n.data(), n.size(), &h), "jprom_basis_sizes");
+        n.resize(h + 1);
+        return n;
+    }
+    const jprom_basis *get() const { return p_.get(); }
+
+  private:
+    std::unique_ptr<jprom_basis, BasisFree> p_;
+};
 
 class Sweep {
   public:
@@ -48,6 +67,17 @@ class Sweep {
         double a = 0;
         check(jprom_sweep_point_amplitude(p_.get(), i, h, output, &a), "jprom_sweep_point_amplitude");
         return a;
+    }
+    // Error predictor e*_h of a reduced sweep's point.
+    double predicted_error(size_t i, size_t h) const {
+        double e = 0;
+        check(jprom_sweep_point_predicted_error(p_.get(), i, h, &e), "jprom_sweep_point_predicted_error");
+        return e;
+    }
+    size_t corrections() const {
+        size_t n = 0;
+        check(jprom_sweep_n_corrections(p_.get(), &n), "jprom_sweep_n_corrections");
+        return n;
     }
 
   private:
@@ -83,6 +113,20 @@ class Model {
         jprom_sweep_result *s = nullptr;
         check(jprom_sweep(p_.get(), &opts, &band, nullptr, nullptr, &s), "jprom_sweep");
         return Sweep(s);
+    }
+    // A JP basis predicted for [omega_lo, omega_hi].
+    Basis predict_basis(const jprom_hbm_options &opts, const jprom_jp_options &jp, double omega_lo, double omega_hi) const {
+        jprom_basis *b = nullptr;
+        check(jprom_basis_predict_opts(p_.get(), &opts, &jp, omega_lo, omega_hi, &b), "jprom_basis_predict_opts");
+        return Basis(b);
+    }
+    // The self-correcting reduced sweep (kind JPROM_ROM_FR or JPROM_ROM_NLR) and its final basis.
+    std::pair<Sweep, Basis> sweep_adaptive(int kind, const jprom_hbm_options &opts, const jprom_sweep_options &band,
+                                           const jprom_jp_options &jp) const {
+        jprom_sweep_result *s = nullptr;
+        jprom_basis *b = nullptr;
+        check(jprom_rom_sweep_adaptive(p_.get(), kind, &opts, &band, &jp, nullptr, nullptr, &s, &b), "jprom_rom_sweep_adaptive");
+        return {Sweep(s), Basis(b)};
     }
 
   private:
@@ -135,6 +179,22 @@ int main() {
             if (e.status != JPROM_INVALID_VALUE) return 1;
             std::printf("# out-of-range point rejected: %s\n", e.what());
         }
+
+        // Jacobian Projection: predicted basis, then the self-correcting NLR sweep.
+        jprom_jp_options jp;
+        jp::check(jprom_jp_options_default(&jp), "jprom_jp_options_default");
+        const std::vector<size_t> predicted = model.predict_basis(opts, jp, band.omega_start, band.omega_end).sizes();
+        std::printf("# JP: predicted basis sizes n_h, h = 0..%zu:", predicted.size() - 1);
+        for (size_t n_h : predicted) std::printf(" %zu", n_h);
+        std::printf("\n");
+        const auto rom = model.sweep_adaptive(JPROM_ROM_NLR, opts, band, jp);
+        const jp::Sweep &reduced = rom.first;
+        std::printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", reduced.size(),
+                    reduced.corrections(), rom.second.sizes()[1]);
+        std::printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
+        for (size_t i = 0; i < reduced.size(); ++i)
+            std::printf("%zu %.10e %.10e %.10e %.10e\n", i, reduced.omega(i), reduced.amplitude(i, 1, 0), reduced.amplitude(i, 1, 1),
+                        reduced.predicted_error(i, 1));
     } catch (const std::exception &e) {
         std::fprintf(stderr, "%s\n", e.what());
         return 1;

@@ -1,7 +1,9 @@
 /*
  * jprom from C: a two-node, six-DoF structure with one 3D friction contact pressing node 1
  * against ground, excited along x at node 0. Sweeps the first mode from stick towards slip
- * and prints `index omega |X1| at node 0 x, |X1| at node 1 x` per converged point.
+ * and prints `index omega |X1| at node 0 x, |X1| at node 1 x` per converged point; then the
+ * Jacobian Projection workflow on the same model: a predicted basis, and the self-correcting
+ * NLR sweep, printing `index omega |X1| node 0 x, |X1| node 1 x, e*_1` per point.
  *
  * Build (from the repository root, after `cargo build --lib`):
  *   gcc -Wall -Werror -std=c11 -Iinclude examples-c/sweep_example.c \
@@ -88,6 +90,57 @@ int main(void) {
         printf("%zu %.10e %.10e %.10e\n", i, omega, a0, a1);
     }
     jprom_sweep_free(sweep);
+    if (bad) {
+        jprom_model_free(model);
+        return bad;
+    }
+
+    /* Jacobian Projection: a basis predicted along the stuck mode (no full-order solution
+     * needed), then the self-correcting reduced sweep, jprom's default JP workflow: it sweeps
+     * the NLR model, evaluates the error predictor e*_1 at every point, and corrects the basis
+     * while the worst e*_1 exceeds jp_opts.threshold (0.05). */
+    jprom_jp_options jp_opts;
+    jprom_jp_options_default(&jp_opts);
+    jprom_basis *basis = NULL;
+    size_t sizes[8], harmonics = 0;
+    if (check(jprom_basis_predict_opts(model, &opts, &jp_opts, sweep_opts.omega_start, sweep_opts.omega_end, &basis), "jprom_basis_predict_opts")
+        || check(jprom_basis_sizes(basis, sizes, 8, &harmonics), "jprom_basis_sizes")) {
+        jprom_basis_free(basis);
+        jprom_model_free(model);
+        return 1;
+    }
+    printf("# JP: predicted basis sizes n_h, h = 0..%zu:", harmonics);
+    for (size_t h = 0; h <= harmonics; ++h) printf(" %zu", sizes[h]);
+    printf("\n");
+    jprom_basis_free(basis);
+
+    jprom_sweep_result *rom = NULL;
+    jprom_basis *final_basis = NULL;
+    seen = 0;
+    if (check(jprom_rom_sweep_adaptive(model, JPROM_ROM_NLR, &opts, &sweep_opts, &jp_opts, on_point, &seen, &rom, &final_basis),
+              "jprom_rom_sweep_adaptive")) {
+        jprom_model_free(model);
+        return 1;
+    }
+    size_t n_corrections = 0;
+    jprom_sweep_n_points(rom, &n_points);
+    jprom_sweep_n_corrections(rom, &n_corrections);
+    jprom_basis_sizes(final_basis, sizes, 8, &harmonics);
+    printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", n_points, n_corrections, sizes[1]);
+    printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
+    for (size_t i = 0; i < n_points; ++i) {
+        double omega, a0, a1, e1;
+        if (check(jprom_sweep_point_omega(rom, i, &omega), "omega")
+            || check(jprom_sweep_point_amplitude(rom, i, 1, 0, &a0), "amplitude")
+            || check(jprom_sweep_point_amplitude(rom, i, 1, 1, &a1), "amplitude")
+            || check(jprom_sweep_point_predicted_error(rom, i, 1, &e1), "predicted error")) {
+            bad = 1;
+            break;
+        }
+        printf("%zu %.10e %.10e %.10e %.10e\n", i, omega, a0, a1, e1);
+    }
+    jprom_sweep_free(rom);
+    jprom_basis_free(final_basis);
     jprom_model_free(model);
     return bad;
 }

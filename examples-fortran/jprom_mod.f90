@@ -11,6 +11,7 @@ module jprom_c
   use, intrinsic :: iso_c_binding
   implicit none
   integer(c_int), parameter :: JPROM_OK = 0
+  integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
 
   type, bind(C) :: jprom_hbm_options
     integer(c_size_t) :: struct_size
@@ -26,6 +27,16 @@ module jprom_c
     real(c_double) :: omega_start, omega_end
     real(c_double) :: initial_step, min_step, max_step
     integer(c_size_t) :: max_points
+  end type
+
+  type, bind(C) :: jprom_jp_options
+    integer(c_size_t) :: struct_size
+    real(c_double) :: gamma
+    integer(c_size_t) :: n_samples, extra_outside
+    integer(c_int) :: static_correction
+    real(c_double) :: threshold
+    integer(c_size_t) :: max_corrections
+    real(c_double) :: gamma_growth, max_gamma
   end type
 
   interface
@@ -112,6 +123,54 @@ module jprom_c
       integer(c_size_t), value :: i, len
       real(c_double), dimension(*), intent(out) :: buf
     end function
+    integer(c_int) function jprom_jp_options_default(out) bind(C, name="jprom_jp_options_default")
+      import :: c_int, jprom_jp_options
+      type(jprom_jp_options), intent(out) :: out
+    end function
+    integer(c_int) function jprom_basis_predict_opts(model, opts, jp_opts, omega_lo, omega_hi, out) &
+        bind(C, name="jprom_basis_predict_opts")
+      import :: c_int, c_double, c_ptr, jprom_hbm_options, jprom_jp_options
+      type(c_ptr), value :: model
+      type(jprom_hbm_options), intent(in) :: opts
+      type(jprom_jp_options), intent(in) :: jp_opts
+      real(c_double), value :: omega_lo, omega_hi
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function jprom_basis_sizes(basis, buf, len, harmonics) bind(C, name="jprom_basis_sizes")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: basis
+      integer(c_size_t), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: harmonics
+    end function
+    integer(c_int) function jprom_basis_free(basis) bind(C, name="jprom_basis_free")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: basis
+    end function
+    integer(c_int) function jprom_rom_sweep_adaptive(model, kind, opts, sweep_opts, jp_opts, callback, user_data, out, &
+        basis_out) bind(C, name="jprom_rom_sweep_adaptive")
+      import :: c_int, c_ptr, c_funptr, jprom_hbm_options, jprom_sweep_options, jprom_jp_options
+      type(c_ptr), value :: model
+      integer(c_int), value :: kind
+      type(jprom_hbm_options), intent(in) :: opts
+      type(jprom_sweep_options), intent(in) :: sweep_opts
+      type(jprom_jp_options), intent(in) :: jp_opts
+      type(c_funptr), value :: callback
+      type(c_ptr), value :: user_data
+      type(c_ptr), intent(out) :: out, basis_out
+    end function
+    integer(c_int) function jprom_sweep_n_corrections(sweep, out) bind(C, name="jprom_sweep_n_corrections")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_point_predicted_error(sweep, i, h, out) &
+        bind(C, name="jprom_sweep_point_predicted_error")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, h
+      real(c_double), intent(out) :: out
+    end function
     integer(c_int) function jprom_last_error_copy(buf, len, written) bind(C, name="jprom_last_error_copy")
       import :: c_int, c_size_t, c_char
       character(kind=c_char), dimension(*), intent(out) :: buf
@@ -123,13 +182,15 @@ end module jprom_c
 
 module jprom
   use, intrinsic :: iso_c_binding
-  use jprom_c, only: jprom_hbm_options, jprom_sweep_options, JPROM_OK
+  use jprom_c, only: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, JPROM_OK, JPROM_ROM_FR, JPROM_ROM_NLR
   implicit none
   private
-  public :: jprom_hbm_options, jprom_sweep_options, JPROM_OK
+  public :: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, JPROM_OK, JPROM_ROM_FR, JPROM_ROM_NLR
   public :: jp_model_new, jp_model_free, jp_add_ground_contact, jp_set_damping, jp_set_first_harmonic_force, &
             jp_set_outputs, jp_default_options, jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_point, &
             jp_sweep_point_coeffs, jp_last_error
+  public :: jp_default_jp_options, jp_basis_predict, jp_basis_sizes, jp_basis_free, jp_rom_sweep_adaptive, &
+            jp_sweep_n_corrections, jp_sweep_point_error
 
 contains
 
@@ -280,5 +341,79 @@ contains
     character(len=*), intent(inout) :: message
     jp_sweep_point_coeffs = finish(jprom_sweep_point_output_coeffs(sweep, int(i - 1, c_size_t), coeffs, &
                                                                    int(size(coeffs), c_size_t)), message)
+  end function
+  !> Defaults of the JP basis and self-correcting sweep settings (gamma 1e3, 100 samples,
+  !> threshold 0.05 on e*_1, at most 3 corrections, ...).
+  subroutine jp_default_jp_options(jp_opts)
+    use jprom_c, only: jprom_jp_options_default
+    type(jprom_jp_options), intent(out) :: jp_opts
+    integer(c_int) :: s
+    s = jprom_jp_options_default(jp_opts)
+  end subroutine
+
+  !> JP basis predicted along the stuck mode for the band [omega_lo, omega_hi] (rad/s).
+  integer function jp_basis_predict(model, opts, jp_opts, omega_lo, omega_hi, basis, message)
+    use jprom_c, only: jprom_basis_predict_opts
+    type(c_ptr), intent(in) :: model
+    type(jprom_hbm_options), intent(in) :: opts
+    type(jprom_jp_options), intent(in) :: jp_opts
+    real(c_double), intent(in) :: omega_lo, omega_hi
+    type(c_ptr), intent(out) :: basis
+    character(len=*), intent(out), optional :: message
+    jp_basis_predict = finish(jprom_basis_predict_opts(model, opts, jp_opts, omega_lo, omega_hi, basis), message)
+  end function
+
+  !> Basis sizes: sizes(h) = n_h for h = 0..harmonics (sizes must hold H + 1 values).
+  integer function jp_basis_sizes(basis, sizes, harmonics)
+    use jprom_c, only: jprom_basis_sizes
+    type(c_ptr), intent(in) :: basis
+    integer, intent(out) :: sizes(0:), harmonics
+    integer(c_size_t) :: buf(size(sizes)), hh
+    jp_basis_sizes = int(jprom_basis_sizes(basis, buf, int(size(sizes), c_size_t), hh))
+    if (jp_basis_sizes == JPROM_OK) then
+      sizes = int(buf)
+      harmonics = int(hh)
+    end if
+  end function
+
+  integer function jp_basis_free(basis)
+    use jprom_c, only: jprom_basis_free
+    type(c_ptr), intent(inout) :: basis
+    jp_basis_free = int(jprom_basis_free(basis))
+    basis = c_null_ptr
+  end function
+
+  !> The self-correcting reduced sweep (kind JPROM_ROM_FR or JPROM_ROM_NLR): predicted basis,
+  !> reduced sweep with e* at every point, basis corrected while the worst e*_1 exceeds
+  !> jp_opts%threshold. Returns the sweep and the final basis (free both).
+  integer function jp_rom_sweep_adaptive(model, kind, opts, sweep_opts, jp_opts, sweep, basis, message)
+    use jprom_c, only: jprom_rom_sweep_adaptive
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: kind
+    type(jprom_hbm_options), intent(in) :: opts
+    type(jprom_sweep_options), intent(in) :: sweep_opts
+    type(jprom_jp_options), intent(in) :: jp_opts
+    type(c_ptr), intent(out) :: sweep, basis
+    character(len=*), intent(out), optional :: message
+    jp_rom_sweep_adaptive = finish(jprom_rom_sweep_adaptive(model, int(kind, c_int), opts, sweep_opts, jp_opts, &
+                                                            c_null_funptr, c_null_ptr, sweep, basis), message)
+  end function
+
+  integer function jp_sweep_n_corrections(sweep, n)
+    use jprom_c, only: jprom_sweep_n_corrections
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: n
+    integer(c_size_t) :: m
+    jp_sweep_n_corrections = int(jprom_sweep_n_corrections(sweep, m))
+    n = int(m)
+  end function
+
+  !> Error predictor e*_h of point i (1-based) of a reduced sweep.
+  integer function jp_sweep_point_error(sweep, i, h, e)
+    use jprom_c, only: jprom_sweep_point_predicted_error
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i, h
+    real(c_double), intent(out) :: e
+    jp_sweep_point_error = int(jprom_sweep_point_predicted_error(sweep, int(i - 1, c_size_t), int(h, c_size_t), e))
   end function
 end module jprom

@@ -1,15 +1,18 @@
-! jprom from Fortran: the same model and sweep as examples-c/sweep_example.c, same output.
+! jprom from Fortran: the same model, sweep and JP workflow as examples-c/sweep_example.c,
+! same output.
 program sweep_example
   use, intrinsic :: iso_c_binding
   use jprom
   implicit none
   integer, parameter :: n = 6
   real(c_double) :: mass(n, n), stiffness(n, n), frame(3, 3), fc(n), fs(n), omega, amps(2), coeffs(2, 7)
-  type(c_ptr) :: model, sweep
+  type(c_ptr) :: model, sweep, basis
   type(jprom_hbm_options) :: opts
   type(jprom_sweep_options) :: sweep_opts
+  type(jprom_jp_options) :: jp_opts
   character(len=512) :: msg
-  integer :: d, i, npts, s
+  integer :: d, i, npts, s, sizes(0:7), hh, ncorr
+  real(c_double) :: e1
 
   mass = 0; stiffness = 0
   do d = 1, 3
@@ -46,6 +49,29 @@ program sweep_example
     end if
   end do
   s = jp_sweep_free(sweep)
+
+  ! Jacobian Projection: a predicted basis, then the self-correcting NLR sweep with e*_1 per point
+  call jp_default_jp_options(jp_opts)
+  if (jp_basis_predict(model, opts, jp_opts, sweep_opts%omega_start, sweep_opts%omega_end, basis, msg) /= JPROM_OK) &
+    call fail('jp_basis_predict')
+  if (jp_basis_sizes(basis, sizes, hh) /= JPROM_OK) call fail('jp_basis_sizes')
+  write (*, '(a,i0,a,*(1x,i0))') '# JP: predicted basis sizes n_h, h = 0..', hh, ':', sizes(0:hh)
+  s = jp_basis_free(basis)
+  if (jp_rom_sweep_adaptive(model, JPROM_ROM_NLR, opts, sweep_opts, jp_opts, sweep, basis, msg) /= JPROM_OK) &
+    call fail('jp_rom_sweep_adaptive')
+  s = jp_sweep_n_points(sweep, npts)
+  s = jp_sweep_n_corrections(sweep, ncorr)
+  s = jp_basis_sizes(basis, sizes, hh)
+  write (*, '(a,i0,a,i0,a,i0)') '# JP: self-correcting NLR sweep, ', npts, ' points, ', ncorr, ' corrections, final n_1 = ', &
+    sizes(1)
+  write (*, '(a)') '# index omega_rad_s X1_node0_x X1_node1_x e_star_1'
+  do i = 1, npts
+    if (jp_sweep_point(sweep, i, omega, amps) /= JPROM_OK) call fail('jp_sweep_point')
+    if (jp_sweep_point_error(sweep, i, 1, e1) /= JPROM_OK) call fail('jp_sweep_point_error')
+    write (*, '(i0,4(1x,es17.10e2))') i - 1, omega, amps(1), amps(2), e1
+  end do
+  s = jp_sweep_free(sweep)
+  s = jp_basis_free(basis)
   s = jp_model_free(model)
 
 contains

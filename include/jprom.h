@@ -7,7 +7,7 @@
  *    jprom_last_error_message() (or jprom_last_error_copy(), for Fortran) says why. The
  *    message describes the latest jprom call on the calling thread.
  *  - Results are returned through out-parameters, written only on success.
- *  - Handles (jprom_model, jprom_solution, jprom_sweep_result) are opaque. A function that creates
+ *  - Handles (jprom_model, jprom_solution, jprom_sweep_result, jprom_basis) are opaque. A function that creates
  *    one takes `T **out`; the caller owns it and releases it with the matching *_free, which
  *    accepts NULL. Passing a freed pointer or a handle of the wrong kind returns
  *    JPROM_INVALID_HANDLE where detectable (best-effort: once the address is reused by a new
@@ -43,6 +43,14 @@
 
 // Nonlinear-DoF reduced model (NLR) on the condensed system.
 #define JPROM_ROM_NLR 1
+
+// A correction of `jprom_rom_sweep_adaptive`: modes regenerated from the reduced solution at
+// the point of worst `e*_1` (the value is that point's omega, rad/s).
+#define JPROM_CORRECTION_REGENERATED 0
+
+// A correction of `jprom_rom_sweep_adaptive`: modes predicted with a larger `gamma` (the
+// value is the new gamma).
+#define JPROM_CORRECTION_GAMMA_INCREASED 1
 
 // Largest model size accepted by `jprom_model_new_csc` (the model is stored dense:
 // two `n x n` matrices of doubles).
@@ -144,6 +152,32 @@ typedef int (*jprom_progress_fn)(void *user_data,
                                  const double *amplitudes,
                                  size_t n_outputs);
 
+// Settings of the JP basis and of the self-correcting sweep. Fill with
+// `jprom_jp_options_default`, then change fields. `struct_size` must stay
+// `sizeof(jprom_jp_options)` (lets the struct grow). Used by `jprom_basis_predict_opts`,
+// `jprom_basis_from_solution` (basis fields only) and `jprom_rom_sweep_adaptive` (all).
+typedef struct {
+  size_t struct_size;
+  // Conditioning ratio `gamma >= 1` of the SVD (default 1e3; typically 1e2 to 1e4, larger
+  // is bigger and more accurate).
+  double gamma;
+  // Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
+  size_t n_samples;
+  // Eigenpairs kept outside the band as well, nearest first (default 0).
+  size_t extra_outside;
+  // 1 (default): add the static-correction vectors to the JP modes; 0: eigenvectors only.
+  int static_correction;
+  // Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
+  // exceeds this (default 0.05; must be > 0).
+  double threshold;
+  // Most corrections (default 3; 0 = predict and sweep once).
+  size_t max_corrections;
+  // Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
+  // (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
+  double gamma_growth;
+  double max_gamma;
+} jprom_jp_options;
+
 
 
 #ifdef __cplusplus
@@ -202,6 +236,98 @@ jprom_status jprom_sweep_point_predicted_error(const jprom_sweep_result *sweep,
                                                size_t index,
                                                size_t h,
                                                double *out);
+
+// Writes the defaults into `*out`.
+jprom_status jprom_jp_options_default(jprom_jp_options *out);
+
+// `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
+// `extra_outside`, `static_correction`; the sweep fields are ignored). `*out` is written only
+// on success; free it with `jprom_basis_free`.
+jprom_status jprom_basis_predict_opts(const jprom_model *model,
+                                      const jprom_hbm_options *options,
+                                      const jprom_jp_options *jp_options,
+                                      double omega_lo,
+                                      double omega_hi,
+                                      jprom_basis **out);
+
+// The basis of a full-order solution's own boundary conditions (method.md §6): the contact
+// stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
+// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
+// ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
+// solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
+// samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
+// written only on success; free it with `jprom_basis_free`. The solution stays the caller's.
+jprom_status jprom_basis_from_solution(const jprom_model *model,
+                                       const jprom_solution *solution,
+                                       const jprom_hbm_options *options,
+                                       const jprom_jp_options *jp_options,
+                                       double omega_lo,
+                                       double omega_hi,
+                                       jprom_basis **out);
+
+// The self-correcting reduced sweep, jprom's default JP workflow (method.md §7, §10): predicts
+// a basis for the band `[sweep_opts->omega_start, omega_end]` along the stuck mode, sweeps the
+// reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
+// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
+// unites the basis with modes regenerated from the worst reduced point (or predicted with a
+// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_n_corrections` /
+// `jprom_sweep_correction`, `e*` with `jprom_sweep_point_predicted_error`.
+//
+// `callback` (may be NULL) is called after each converged point of each reduced sweep;
+// `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
+// that sweep stops, no further correction is made, and the call returns `JPROM_CANCELLED`
+// with `*out` (and `*basis_out`) written all the same, as `jprom_sweep`.
+//
+// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
+// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
+// On failure neither is written.
+jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
+                                      int kind,
+                                      const jprom_hbm_options *options,
+                                      const jprom_sweep_options *sweep_opts,
+                                      const jprom_jp_options *jp_options,
+                                      jprom_progress_fn callback,
+                                      void *user_data,
+                                      jprom_sweep_result **out,
+                                      jprom_basis **basis_out);
+
+// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
+// other sweep, and when the first basis was good enough).
+jprom_status jprom_sweep_n_corrections(const jprom_sweep_result *sweep, size_t *out);
+
+// Correction `index` (in order, 0-based) of an adaptive sweep: its kind
+// (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
+// regenerated from or the new gamma (`value`), the worst `e*_1` of the sweep before and after
+// it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
+// may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
+// of range, `JPROM_BAD_SIZE` if `len` is nonzero but below `H + 1`; nothing is written then.
+jprom_status jprom_sweep_correction(const jprom_sweep_result *sweep,
+                                    size_t index,
+                                    int *kind,
+                                    double *value,
+                                    double *worst_before,
+                                    double *worst_after,
+                                    size_t *sizes,
+                                    size_t len);
+
+// The actual error `e_h`, `h = 0..H` (method.md §10, paper (44)) of a reduced solution: the
+// contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
+// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
+// full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
+// reduced ones. `model`, `basis`, `kind` and `options` must be those of the reduced sweep
+// (they rebuild the reduced model; `JPROM_BAD_SIZE` if the basis does not match the
+// solution). `H + 1` values go to `buf` of capacity `len`. `JPROM_INVALID_VALUE` if the two
+// omegas differ (beyond 1e-9 relative), if `rom_solution` is full-order or `full_solution`
+// reduced. Compare with `jprom_sweep_point_predicted_error` (`e*`, which needs no full-order
+// solution).
+jprom_status jprom_rom_actual_error(const jprom_model *model,
+                                    const jprom_basis *basis,
+                                    int kind,
+                                    const jprom_hbm_options *options,
+                                    const jprom_solution *rom_solution,
+                                    const jprom_solution *full_solution,
+                                    double *buf,
+                                    size_t len);
 
 // Creates a model with `n` DoFs from dense, column-major `n x n` mass and stiffness
 // matrices (both symmetric; `M` with positive diagonal). Damping, excitation, contacts and
@@ -439,7 +565,9 @@ jprom_status jprom_solution_contact_states(const jprom_solution *solution,
 // Saves a solution as versioned JSON.
 jprom_status jprom_solution_save_json(const jprom_solution *solution, const char *path);
 
-// Loads a solution saved by `jprom_solution_save_json`.
+// Loads a solution saved by `jprom_solution_save_json`. The file does not say whether the
+// solution is full-order or reduced: `jprom_basis_from_solution` and `jprom_rom_actual_error`
+// check a loaded solution's sizes only.
 jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 
 // Saves all points of a sweep as versioned JSON.

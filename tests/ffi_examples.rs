@@ -1,5 +1,6 @@
 //! The C, C++ and Fortran examples compile with -Wall -Werror / -Wall -std=f2008, run, and print the
-//! same numbers as the Rust API for the same model (issue 3, acceptance 1); a C program checks
+//! same numbers as the Rust API for the same model (issue 3, acceptance 1), for the full-order
+//! sweep and for the JP workflow (self-correcting NLR sweep with e*_1 per point); a C program checks
 //! every documented error status (acceptance 2); a C program takes the address of every
 //! function in the header (acceptance 4).
 
@@ -10,11 +11,15 @@ use faer::Mat;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use jprom::hbm::{sweep, HbmOptions, SweepOptions};
+use jprom::jp::PredictionOptions;
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+use jprom::rom::{adaptive_sweep, AdaptiveOptions, RomKind};
 use native::*;
 use std::ops::ControlFlow;
 
-/// The examples' model and sweep, through the Rust API: rows (index, omega, |X1| node 0 x, |X1| node 1 x).
+/// The examples' model and sweeps, through the Rust API: the full-order rows (index, omega,
+/// |X1| node 0 x, |X1| node 1 x), then the rows of the self-correcting NLR sweep with the
+/// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1).
 fn rust_table() -> Vec<Vec<f64>> {
     let n = 6;
     let mut k = Mat::<f64>::zeros(n, n);
@@ -35,14 +40,24 @@ fn rust_table() -> Vec<Vec<f64>> {
     let opts = HbmOptions::with_harmonics(3);
     let sys = CondensedSystem::new(&model, &opts).unwrap();
     let res = sweep(&sys, &SweepOptions::band(60.0, 160.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
-    res.points.iter().enumerate().map(|(i, p)| vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1)]).collect()
+    let mut rows: Vec<Vec<f64>> =
+        res.points.iter().enumerate().map(|(i, p)| vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1)]).collect();
+    assert!(rows.len() > 20, "too few full-order points");
+    let mut pred = PredictionOptions::new((60.0, 160.0));
+    pred.harmonics = 3;
+    let jp = adaptive_sweep(&model, &pred, &SweepOptions::band(60.0, 160.0), &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
+    assert!(jp.sweep.points.len() > 20, "too few JP points");
+    rows.extend(jp.sweep.points.iter().zip(&jp.predicted_errors).enumerate().map(|(i, (p, e))| {
+        vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1), e[1]]
+    }));
+    rows
 }
 
 fn assert_same_table(what: &str, got: &[Vec<f64>], expect: &[Vec<f64>]) {
     assert_eq!(got.len(), expect.len(), "{what}: number of points");
     assert!(got.len() > 20, "{what}: too few points");
     for (g, e) in got.iter().zip(expect) {
-        assert_eq!(g.len(), 4, "{what}: row {g:?}");
+        assert_eq!(g.len(), e.len(), "{what}: row {g:?} vs {e:?}");
         for (a, b) in g.iter().zip(e) {
             // the examples print 11 significant digits
             assert!((a - b).abs() <= 1e-9 * b.abs().max(1e-12), "{what}: {g:?} vs {e:?}");
@@ -56,7 +71,9 @@ fn c_cpp_and_fortran_examples_print_the_rust_numbers() {
     let c = compile_c(&[&root().join("examples-c/sweep_example.c")], "sweep_example_c", &[]);
     let c_out = run(&c);
     assert_same_table("C example", &table(&c_out), &expect);
-    assert!(c_out.contains(&format!("({} reported by the callback)", expect.len())), "{c_out}");
+    let n_full = expect.iter().filter(|r| r.len() == 4).count();
+    assert!(c_out.contains(&format!("({n_full} reported by the callback)")), "{c_out}");
+    assert!(c_out.contains("# JP: self-correcting NLR sweep"), "{c_out}");
     let cpp = compile_cpp(&[&root().join("examples-c/cpp_raii.cpp")], "cpp_raii");
     let cpp_out = run(&cpp);
     assert_same_table("C++ RAII example", &table(&cpp_out), &expect);

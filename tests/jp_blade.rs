@@ -6,14 +6,20 @@
 //! contact Jacobian at resonance are compared with the FO (condensed) solution at
 //! `alpha_ST / 10` (partial slip) and `alpha_ST / 3000` (gross slip).
 //!
-//! What the 0.1 % acceptance takes on this blade (measured, see the report): the first
-//! harmonic X1 at the tip is within 0.1 % with the in-band JP modes plus the 4 nearest ones
-//! (NLR at both levels, FR at alpha_ST / 10; FR at gross slip stays near 1 %). The static
-//! term X0 at the tip is NOT within 0.1 % unless the basis spans all contact coordinates: X0
-//! there is a small quantity (2e-4 mm against 3e-3 mm for X1) set by the mean tangential
-//! forces of slipping nodes, which depend on the parts of the contact motion the in-band
-//! modes leave out (errors 0.13 at alpha_ST / 10, order 1 at gross slip, where the mean
-//! tangential position is nearly indeterminate).
+//! What the 0.1 % acceptance takes on this blade (measured; bases carry the static
+//! correction of `ModeOptions::static_correction`):
+//! - X1 at the tip, in-band modes + the 4 nearest: FR 7.6e-4 / 6.0e-4 and NLR 4.2e-5 / 2.9e-5
+//!   at alpha_ST / 10 / 3000 (without the static correction FR was 8.9e-3 at gross slip).
+//! - X0 at the tip is a different quantity: the pressing load is a couple on the shroud, so the
+//!   static tip displacement is small and, across the tip's flap direction, set by the mean
+//!   tangential forces of slipping contacts (6.7e-5 mm against 0.09 mm for X1 at gross slip).
+//!   Those means follow the contact motion in detail, so X0 needs richer bases: with + 20
+//!   modes FR 1.6e-4 and NLR 8.2e-5 at alpha_ST / 10, NLR 9.2e-5 at alpha_ST / 3000; FR at
+//!   gross slip stays at 1-10 % even with 60 extra modes (X1 1e-6 there), which is the one
+//!   known gap. Adding the whole static contact flexibility `A_0^-1 [I_w; 0]` to `Φ_0` does not
+//!   change it (measured): the error is in the mean contact forces, not in the static span
+//!   (FR + 20 at gross slip: static contact forces within e_0 = 7e-5, X1 within 7e-6, and
+//!   still 10 % on the tangential mean they leave at the tip).
 
 #[path = "blade_support/mod.rs"]
 mod blade_support;
@@ -24,9 +30,9 @@ use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, HbmOptions, PointSolution, SweepOptions};
-use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
+use jprom::jp::{predict_basis, BasisOptions, ContactJacobian, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
-use jprom::rom::{FrRom, NlrRom, ReducedModel};
+use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use std::sync::OnceLock;
 
 fn blade() -> &'static Blade {
@@ -42,8 +48,9 @@ struct Outcome {
     energy: f64,
 }
 
-/// Basis from the FO solution's own `K̂`, FR and NLR solved at the FO resonance frequency.
-fn own_basis(harmonics: usize, div: f64, extra: usize) -> (Outcome, Outcome) {
+/// Bases from the FO solution's own `K̂` (in-band modes plus `extra` nearest ones, with the
+/// static correction), FR and NLR solved at the FO resonance frequency; one FO solve for all.
+fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outcome)> {
     let b = blade();
     let model = b.at_level(b.alpha_st / div);
     let hopts = HbmOptions::with_harmonics(harmonics);
@@ -56,30 +63,34 @@ fn own_basis(harmonics: usize, div: f64, extra: usize) -> (Outcome, Outcome) {
     let mut forces = ContactForces::default();
     evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
     let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
-    let opts = BasisOptions { modes: ModeOptions { band: b.band, extra_outside: extra, static_correction: true, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e10 };
-    let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
-    let fr = FrRom::new(&coords, &basis).unwrap();
-    let nlr = NlrRom::new(&cond, &basis).unwrap();
-    let run = |rom: &dyn ReducedModel, name: &str| -> Outcome {
-        let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-        let ea = actual_error(rom, &plan, fo.omega, &s.z, &fo).unwrap();
-        let o = Outcome {
-            x0: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0),
-            x1: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
-            e_star: es[1],
-            e: ea[1],
-            energy: energy_error(rom, &s, &fo, &plan),
+    let mut out = Vec::new();
+    for &extra in extras {
+        let opts = BasisOptions { modes: ModeOptions { extra_outside: extra, ..ModeOptions::in_band(b.band) }, gamma: 1e10 };
+        let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
+        let fr = FrRom::new(&coords, &basis).unwrap();
+        let nlr = NlrRom::new(&cond, &basis).unwrap();
+        let run = |rom: &dyn ReducedModel, name: &str| -> Outcome {
+            let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
+            let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
+            let ea = actual_error(rom, &plan, fo.omega, &s.z, &fo).unwrap();
+            let o = Outcome {
+                x0: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0),
+                x1: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
+                e_star: es[1],
+                e: ea[1],
+                energy: energy_error(rom, &s, &fo, &plan),
+            };
+            println!(
+                "H={harmonics} alpha_ST/{div} extra {extra} {name} sizes {:?}: X0 {:.2e} X1 {:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e}",
+                rom.layout().sizes, o.x0, o.x1, o.e_star, o.e, o.energy
+            );
+            // The predictor is conservative (round-off allowance for exact bases).
+            assert!(o.e_star + 1e-9 >= o.e, "{name}: e*_1 {:.3e} < e_1 {:.3e}", o.e_star, o.e);
+            o
         };
-        println!(
-            "H={harmonics} alpha_ST/{div} extra {extra} {name} sizes {:?}: X0 {:.2e} X1 {:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e}",
-            rom.layout().sizes, o.x0, o.x1, o.e_star, o.e, o.energy
-        );
-        // The predictor is conservative (round-off allowance for exact bases).
-        assert!(o.e_star + 1e-9 >= o.e, "{name}: e*_1 {:.3e} < e_1 {:.3e}", o.e_star, o.e);
-        o
-    };
-    (run(&fr, "FR"), run(&nlr, "NLR"))
+        out.push((run(&fr, "FR"), run(&nlr, "NLR")));
+    }
+    out
 }
 
 /// Largest per-contact difference of the energy dissipated per cycle, over the largest FO
@@ -105,14 +116,18 @@ fn alpha_st_separates_full_stick_from_slip() {
 
 #[test]
 fn own_jacobian_basis_partial_slip() {
-    let (fr, nlr) = own_basis(1, 10.0, 4);
+    let r = own_basis(1, 10.0, &[4, 20, 40]);
+    // In-band + 4 modes: the first harmonic at the tip within 0.1 %, FR and NLR.
+    let (fr, nlr) = &r[0];
     assert!(fr.x1 < 1e-3 && nlr.x1 < 1e-3, "X1: FR {:.2e} NLR {:.2e}", fr.x1, nlr.x1);
-    // Known gap (module doc): X0 is not within 0.1 %; guard the measured level.
-    assert!(fr.x0 < 0.2 && nlr.x0 < 0.2);
-    // Dissipated energy per contact node.
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL, "energy FR {:.2e} NLR {:.2e}", fr.energy, nlr.energy);
+    // In-band + 20: the static term too (module doc: X0 at the tip is set by mean friction forces).
+    let (fr, nlr) = &r[1];
+    for (what, e) in [("FR X0", fr.x0), ("FR X1", fr.x1), ("NLR X0", nlr.x0), ("NLR X1", nlr.x1)] {
+        assert!(e < 1e-3, "{what} {e:.2e} >= 0.1 %");
+    }
     // A basis spanning every contact coordinate makes NLR exact: X0 and X1 to round-off.
-    let (_, full) = own_basis(1, 10.0, 40);
+    let (_, full) = &r[2];
     assert!(full.x0 < 1e-6 && full.x1 < 1e-6, "complete NLR: X0 {:.2e} X1 {:.2e}", full.x0, full.x1);
 }
 
@@ -124,17 +139,105 @@ const ENERGY_TOL: f64 = 0.02;
 
 #[test]
 fn own_jacobian_basis_gross_slip() {
-    let (fr, nlr) = own_basis(1, 3000.0, 4);
-    assert!(nlr.x1 < 1e-3, "NLR X1 {:.2e}", nlr.x1);
-    // FR at gross slip: about 1 % (known gap).
-    assert!(fr.x1 < 2e-2, "FR X1 {:.2e}", fr.x1);
+    let r = own_basis(1, 3000.0, &[4, 20]);
+    let (fr, nlr) = &r[0];
+    assert!(fr.x1 < 1e-3 && nlr.x1 < 1e-3, "X1: FR {:.2e} NLR {:.2e}", fr.x1, nlr.x1);
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL, "energy FR {:.2e} NLR {:.2e}", fr.energy, nlr.energy);
+    let (fr, nlr) = &r[1];
+    assert!(nlr.x0 < 1e-3 && nlr.x1 < 1e-3, "NLR X0 {:.2e} X1 {:.2e}", nlr.x0, nlr.x1);
+    assert!(fr.x1 < 1e-3, "FR X1 {:.2e}", fr.x1);
+    // Known gap (module doc): FR's static term at gross slip, a mean-friction quantity 1/1000
+    // of X1, stays near 10 % (1-2 % with 30-60 extra modes); guard the measured level.
+    assert!(fr.x0 < 0.2, "FR X0 {:.2e}", fr.x0);
 }
 
 #[test]
 fn own_jacobian_basis_partial_slip_h3() {
-    let (fr, nlr) = own_basis(3, 10.0, 4);
-    assert!(nlr.x1 < 1e-3, "NLR X1 {:.2e}", nlr.x1);
-    assert!(fr.x1 < 1e-2, "FR X1 {:.2e}", fr.x1);
+    let r = own_basis(3, 10.0, &[4]);
+    let (fr, nlr) = &r[0];
+    assert!(fr.x1 < 1e-3 && nlr.x1 < 1e-3, "X1: FR {:.2e} NLR {:.2e}", fr.x1, nlr.x1);
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL);
+}
+
+/// Errors of a predicted basis at the FO resonance: (n_0, n_1, FR X1, NLR X1, FR e*_1, FR e_1,
+/// NLR e*_1, NLR e_1).
+fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64, f64, f64, f64, f64, f64) {
+    let b = blade();
+    let model = b.at_level(b.alpha_st / div);
+    let hopts = HbmOptions::with_harmonics(1);
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let mut popts = PredictionOptions::new(b.band);
+    popts.modes.extra_outside = 2;
+    popts.gamma = gamma;
+    let (basis, _) = predict_basis(&coords, &popts).unwrap();
+    let fr = FrRom::new(&coords, &basis).unwrap();
+    let nlr = NlrRom::new(&cond, &basis).unwrap();
+    let eval = |rom: &dyn ReducedModel| -> (f64, f64, f64) {
+        let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
+        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
+        let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+        (tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1), es[1], ea[1])
+    };
+    let (fx, fes, fe) = eval(&fr);
+    let (nx, nes, ne) = eval(&nlr);
+    println!("alpha_ST/{div} gamma {gamma:.0e} sizes {:?}: FR X1 {fx:.2e} e*_1 {fes:.2e} e_1 {fe:.2e} | NLR X1 {nx:.2e} e*_1 {nes:.2e} e_1 {ne:.2e}", basis.sizes);
+    (basis.sizes[0], basis.sizes[1], fx, nx, fes, fe, nes, ne)
+}
+
+fn fo_resonance(div: f64) -> PointSolution {
+    let b = blade();
+    let hopts = HbmOptions::with_harmonics(1);
+    let cond = CondensedSystem::new(&b.at_level(b.alpha_st / div), &hopts).unwrap();
+    full_order_resonance(&cond, &hopts, b.band, None).0
+}
+
+/// Acceptance 2 and the first half of 3: predicted bases (stuck mode as generating shape) with
+/// gamma 1e2..1e4; the error at resonance falls as the basis grows, and e*_1 >= e_1 on every
+/// case (FR and NLR).
+#[test]
+fn predicted_bases_error_falls_with_size_and_predictor_is_conservative() {
+    let fo = fo_resonance(10.0);
+    let rows: Vec<_> = [1e2, 1e3, 1e4].iter().map(|&g| predicted_row(10.0, g, &fo)).collect();
+    for r in &rows {
+        assert!(r.4 + 1e-9 >= r.5, "FR e*_1 {:.2e} < e_1 {:.2e}", r.4, r.5);
+        assert!(r.6 + 1e-9 >= r.7, "NLR e*_1 {:.2e} < e_1 {:.2e}", r.6, r.7);
+    }
+    for w in rows.windows(2) {
+        assert!(w[1].1 >= w[0].1, "n_1 grows with gamma");
+        assert!(w[1].2 < w[0].2 && w[1].3 < w[0].3, "error falls as the basis grows: {:?} -> {:?}", w[0], w[1]);
+    }
+    // The largest basis is accurate and says so.
+    assert!(rows[2].3 < 1e-3 && rows[2].6 < 0.05);
+}
+
+/// Acceptance 3: at alpha_ST / 100 the stuck mode is a poor generating shape on this blade;
+/// e*_1 flags it, and the self-correcting sweep regenerates from its own reduced solution and
+/// brings the first-harmonic error at the FO resonance below 1 % with a basis of similar size.
+#[test]
+fn poor_generating_shape_is_flagged_and_corrected() {
+    let b = blade();
+    let div = 100.0;
+    let fo = fo_resonance(div);
+    let first = predicted_row(div, 1e3, &fo);
+    assert!(first.6 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.6);
+    assert!(first.6 + 1e-9 >= first.7);
+    let model = b.at_level(b.alpha_st / div);
+    let hopts = HbmOptions::with_harmonics(1);
+    let mut popts = PredictionOptions::new(b.band);
+    popts.modes.extra_outside = 2;
+    let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(b.band.0, b.band.1) };
+    let out = adaptive_sweep(&model, &popts, &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    println!("corrections {:?}", out.corrections);
+    assert!(!out.corrections.is_empty(), "the sweep must have corrected its basis");
+    let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
+    assert!(worst <= 0.05, "worst e*_1 after correction {worst:.2e}");
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let nlr = NlrRom::new(&cond, &out.basis).unwrap();
+    let s = solve_point(&nlr, fo.omega, None, &hopts).unwrap();
+    let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
+    println!("final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.0, first.1));
+    assert!(x1 < 1e-2, "X1 error after correction {x1:.2e}");
+    assert!(out.basis.sizes[1] <= 2 * first.1, "similar size: n_1 {} from {}", out.basis.sizes[1], first.1);
 }

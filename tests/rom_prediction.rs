@@ -10,7 +10,9 @@ use jprom::error_metric::{actual_error, output_error, predicted_error};
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;
-use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom};
+use jprom::hbm::SweepEnd;
+use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, FrRom};
+use std::ops::ControlFlow;
 
 #[test]
 fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
@@ -72,4 +74,67 @@ fn adaptive_sweep_reports_corrections() {
     for c in &out.corrections {
         assert!(c.worst_error_before > AdaptiveOptions::default().threshold);
     }
+}
+
+#[test]
+fn adaptive_sweep_with_progress_reports_every_point_and_stops_on_request() {
+    let mut model = chain_model(&ChainOptions::default());
+    model.excitation.dynamic_scale = 0.05;
+    let hopts = HbmOptions::with_harmonics(1);
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
+    let band = (0.97 * freqs[0], 1.01 * freqs[0]);
+    let pred = PredictionOptions::new(band);
+    let sopts = SweepOptions::band(band.0, band.1);
+    let aopts = AdaptiveOptions::default();
+    let plain = adaptive_sweep(&model, &pred, &sopts, &hopts, &aopts).unwrap();
+    // every point of every pass is reported; the result is that of adaptive_sweep
+    let mut seen: Vec<(usize, f64)> = Vec::new();
+    let out = adaptive_sweep_with_progress(&model, &pred, &sopts, &hopts, &aopts, &mut |pass, p| {
+        seen.push((pass, p.omega));
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert_eq!(out.corrections, plain.corrections);
+    assert_eq!(out.predicted_errors, plain.predicted_errors);
+    let last: Vec<f64> = seen.iter().filter(|s| s.0 == out.corrections.len()).map(|s| s.1).collect();
+    assert_eq!(last, out.sweep.points.iter().map(|p| p.omega).collect::<Vec<_>>());
+    assert_eq!(seen.iter().map(|s| s.0).max(), Some(out.corrections.len()));
+    // stopping at the first point of the first pass: no correction, one point
+    let stopped = adaptive_sweep_with_progress(&model, &pred, &sopts, &hopts, &aopts, &mut |_, _| ControlFlow::Break(())).unwrap();
+    assert_eq!(stopped.sweep.end, SweepEnd::StoppedByCaller);
+    assert_eq!(stopped.sweep.points.len(), 1);
+    assert!(stopped.corrections.is_empty());
+    assert_eq!(stopped.predicted_errors.len(), 1);
+}
+
+#[test]
+fn prediction_works_without_static_load() {
+    // the C examples' model: a preloaded contact and no static force, so the static solution
+    // is driven by the preload alone (its residual used to be scaled by the zero static load,
+    // and never converged)
+    use faer::Mat;
+    use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
+    use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+    let n = 6;
+    let mut k = Mat::<f64>::zeros(n, n);
+    let mut m = Mat::<f64>::zeros(n, n);
+    for d in 0..3 {
+        m[(d, d)] = 1.0;
+        m[(3 + d, 3 + d)] = 1.0;
+        k[(d, d)] = 2.0e4;
+        k[(3 + d, 3 + d)] = 1.0e4;
+        k[(d, 3 + d)] = -1.0e4;
+        k[(3 + d, d)] = -1.0e4;
+    }
+    let mut fc = vec![0.0; n];
+    fc[0] = 5.0;
+    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: fc, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+    let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
+    let model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap();
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let mut p = PredictionOptions::new((60.0, 160.0));
+    p.n_samples = 10;
+    let (basis, report) = predict_basis(&coords, &p).unwrap();
+    assert!(basis.sizes[1] > 0);
+    assert!(report.static_solution.iter().any(|x| *x != 0.0), "the preload moves the static solution");
 }

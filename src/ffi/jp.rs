@@ -4,17 +4,21 @@
 use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
 use super::handle::{self, Handle};
 use super::model::jprom_model;
-use super::solve::{cancelled_status, hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_sweep_options, jprom_sweep_result, progress_adapter, sweep_options};
+use super::solve::{
+    cancelled_status, hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_solution, jprom_sweep_options, jprom_sweep_result, progress_adapter,
+    sweep_options, Origin,
+};
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;
-use crate::error_metric::predicted_error;
-use crate::hbm::{self, SweepEnd};
-use crate::jp::{predict_basis, JpBasis, PredictionOptions};
+use crate::error_metric::{actual_error, predicted_error};
+use crate::hbm::{self, HbmOptions, PointSolution, SweepEnd};
+use crate::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
 use crate::model::ContactCoordinates;
-use crate::rom::{FrRom, NlrRom, ReducedModel};
+use crate::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, FrRom, NlrRom, ReducedModel, RomKind};
 use std::ffi::{c_char, c_int, c_void};
+use std::ops::ControlFlow;
 
 /// A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
 #[allow(non_camel_case_types)]
@@ -137,17 +141,13 @@ pub unsafe extern "C" fn jprom_rom_sweep(
         let out = out_arg(out, "out")?;
         let hopts = hbm_options(o)?;
         let sopts = sweep_options(so)?;
-        let rom: Box<dyn ReducedModel> = match kind {
-            JPROM_ROM_FR => Box::new(FrRom::new(&ContactCoordinates::new(&m.model, hopts.harmonics)?, b)?),
-            JPROM_ROM_NLR => Box::new(NlrRom::new(&CondensedSystem::new(&m.model, &hopts)?, b)?),
-            other => return Err(FfiError::new(JPROM_INVALID_VALUE, format!("kind must be JPROM_ROM_FR (0) or JPROM_ROM_NLR (1), got {other}"))),
-        };
+        let rom = build_rom(m, b, rom_kind(kind)?, &hopts)?;
         let mut on_point = progress_adapter(callback, user_data);
         let result = hbm::sweep(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
         let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
         let errors = result.points.iter().map(|p| predicted_error(rom.as_ref(), &plan, p.omega, &p.z)).collect::<crate::Result<Vec<_>>>()?;
         cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = jprom_sweep_result::wrap(result, errors);
+        *out = jprom_sweep_result::wrap(result, errors, Vec::new(), Origin::Reduced);
         Ok(())
     });
     cancelled_status(status, cancelled)
@@ -164,6 +164,363 @@ pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_s
             .get(index)
             .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("no predicted error for point {index} (full-order sweep, or index >= {})", s.predicted_errors.len())))?;
         *out_arg(out, "out")? = *e.get(h).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("harmonic {h} > H = {}", e.len().saturating_sub(1))))?;
+        Ok(())
+    })
+}
+
+/// `kind` of the C API as a [`RomKind`].
+fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
+    match kind {
+        JPROM_ROM_FR => Ok(RomKind::Fr),
+        JPROM_ROM_NLR => Ok(RomKind::Nlr),
+        other => Err(FfiError::new(JPROM_INVALID_VALUE, format!("kind must be JPROM_ROM_FR (0) or JPROM_ROM_NLR (1), got {other}"))),
+    }
+}
+
+fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, hopts: &HbmOptions) -> Result<Box<dyn ReducedModel>, FfiError> {
+    Ok(match kind {
+        RomKind::Fr => Box::new(FrRom::new(&ContactCoordinates::new(&m.model, hopts.harmonics)?, b)?),
+        RomKind::Nlr => Box::new(NlrRom::new(&CondensedSystem::new(&m.model, hopts)?, b)?),
+    })
+}
+
+/// Settings of the JP basis and of the self-correcting sweep. Fill with
+/// `jprom_jp_options_default`, then change fields. `struct_size` must stay
+/// `sizeof(jprom_jp_options)` (lets the struct grow). Used by `jprom_basis_predict_opts`,
+/// `jprom_basis_from_solution` (basis fields only) and `jprom_rom_sweep_adaptive` (all).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct jprom_jp_options {
+    pub struct_size: usize,
+    /// Conditioning ratio `gamma >= 1` of the SVD (default 1e3; typically 1e2 to 1e4, larger
+    /// is bigger and more accurate).
+    pub gamma: f64,
+    /// Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
+    pub n_samples: usize,
+    /// Eigenpairs kept outside the band as well, nearest first (default 0).
+    pub extra_outside: usize,
+    /// 1 (default): add the static-correction vectors to the JP modes; 0: eigenvectors only.
+    pub static_correction: c_int,
+    /// Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
+    /// exceeds this (default 0.05; must be > 0).
+    pub threshold: f64,
+    /// Most corrections (default 3; 0 = predict and sweep once).
+    pub max_corrections: usize,
+    /// Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
+    /// (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
+    pub gamma_growth: f64,
+    pub max_gamma: f64,
+}
+
+/// Writes the defaults into `*out`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) -> jprom_status {
+    ffi_guard!({
+        let p = PredictionOptions::new((0.0, 0.0));
+        let a = AdaptiveOptions::default();
+        *out_arg(out, "out")? = jprom_jp_options {
+            struct_size: std::mem::size_of::<jprom_jp_options>(),
+            gamma: p.gamma,
+            n_samples: p.n_samples,
+            extra_outside: p.modes.extra_outside,
+            static_correction: p.modes.static_correction as c_int,
+            threshold: a.threshold,
+            max_corrections: a.max_corrections,
+            gamma_growth: a.gamma_growth,
+            max_gamma: a.max_gamma,
+        };
+        Ok(())
+    })
+}
+
+/// Checks `struct_size` and the floats of the C options.
+fn checked_jp_options(o: &jprom_jp_options) -> Result<&jprom_jp_options, FfiError> {
+    if o.struct_size != std::mem::size_of::<jprom_jp_options>() {
+        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_jp_options.struct_size: fill the options with jprom_jp_options_default"));
+    }
+    finite_arg("gamma", o.gamma)?;
+    finite_arg("threshold", o.threshold)?;
+    finite_arg("gamma_growth", o.gamma_growth)?;
+    finite_arg("max_gamma", o.max_gamma)?;
+    if o.max_gamma < o.gamma {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
+    }
+    Ok(o)
+}
+
+fn mode_options(o: &jprom_jp_options, band: (f64, f64)) -> ModeOptions {
+    let mut m = ModeOptions::in_band(band);
+    m.extra_outside = o.extra_outside;
+    m.static_correction = o.static_correction != 0;
+    m
+}
+
+fn prediction_options(o: &jprom_jp_options, hopts: &HbmOptions, band: (f64, f64)) -> PredictionOptions {
+    let mut p = PredictionOptions::new(band);
+    p.harmonics = hopts.harmonics;
+    p.nt = hopts.nt;
+    p.gamma = o.gamma;
+    p.n_samples = o.n_samples;
+    p.modes = mode_options(o, band);
+    p
+}
+
+fn band_arg(omega_lo: f64, omega_hi: f64) -> Result<(f64, f64), FfiError> {
+    Ok((finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?))
+}
+
+/// `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
+/// `extra_outside`, `static_correction`; the sweep fields are ignored). `*out` is written only
+/// on success; free it with `jprom_basis_free`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_predict_opts(
+    model: *const jprom_model,
+    options: *const jprom_hbm_options,
+    jp_options: *const jprom_jp_options,
+    omega_lo: f64,
+    omega_hi: f64,
+    out: *mut *mut jprom_basis,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let out = out_arg(out, "out")?;
+        let hopts = hbm_options(o)?;
+        let band = band_arg(omega_lo, omega_hi)?;
+        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let (basis, _) = predict_basis(&coords, &prediction_options(jo, &hopts, band))?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// The basis of a full-order solution's own boundary conditions (method.md §6): the contact
+/// stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
+/// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
+/// ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
+/// solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
+/// samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
+/// written only on success; free it with `jprom_basis_free`. The solution stays the caller's.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_from_solution(
+    model: *const jprom_model,
+    solution: *const jprom_solution,
+    options: *const jprom_hbm_options,
+    jp_options: *const jprom_jp_options,
+    omega_lo: f64,
+    omega_hi: f64,
+    out: *mut *mut jprom_basis,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let sol = handle::get(solution, "solution")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let out = out_arg(out, "out")?;
+        if sol.origin == Origin::Reduced {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
+        }
+        let hopts = hbm_options(o)?;
+        let band = band_arg(omega_lo, omega_hi)?;
+        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+        let bopts = BasisOptions { modes: mode_options(jo, band), gamma: jo.gamma };
+        let basis = JpBasis::from_solution(&coords, &sol.point, &plan, &bopts)?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// The self-correcting reduced sweep, jprom's default JP workflow (method.md §7, §10): predicts
+/// a basis for the band `[sweep_opts->omega_start, omega_end]` along the stuck mode, sweeps the
+/// reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
+/// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
+/// unites the basis with modes regenerated from the worst reduced point (or predicted with a
+/// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_n_corrections` /
+/// `jprom_sweep_correction`, `e*` with `jprom_sweep_point_predicted_error`.
+///
+/// `callback` (may be NULL) is called after each converged point of each reduced sweep;
+/// `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
+/// that sweep stops, no further correction is made, and the call returns `JPROM_CANCELLED`
+/// with `*out` (and `*basis_out`) written all the same, as `jprom_sweep`.
+///
+/// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
+/// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
+/// On failure neither is written.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
+    model: *const jprom_model,
+    kind: c_int,
+    options: *const jprom_hbm_options,
+    sweep_opts: *const jprom_sweep_options,
+    jp_options: *const jprom_jp_options,
+    callback: jprom_progress_fn,
+    user_data: *mut c_void,
+    out: *mut *mut jprom_sweep_result,
+    basis_out: *mut *mut jprom_basis,
+) -> jprom_status {
+    let mut cancelled = false;
+    let status = ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let out = out_arg(out, "out")?;
+        let kind = rom_kind(kind)?;
+        let hopts = hbm_options(o)?;
+        let sopts = sweep_options(so)?;
+        let pred = prediction_options(jo, &hopts, (sopts.omega_start, sopts.omega_end));
+        let aopts = AdaptiveOptions {
+            kind,
+            threshold: jo.threshold,
+            max_corrections: jo.max_corrections,
+            gamma_growth: jo.gamma_growth,
+            max_gamma: jo.max_gamma,
+        };
+        // one progress counter per reduced sweep
+        let mut pass_now = 0;
+        let mut adapter = progress_adapter(callback, user_data);
+        let mut on_point = |pass: usize, p: &PointSolution| -> ControlFlow<()> {
+            if pass != pass_now {
+                pass_now = pass;
+                adapter = progress_adapter(callback, user_data);
+            }
+            adapter(p)
+        };
+        let a = adaptive_sweep_with_progress(&m.model, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
+        cancelled = a.sweep.end == SweepEnd::StoppedByCaller;
+        *out = jprom_sweep_result::wrap(a.sweep, a.predicted_errors, a.corrections, Origin::Reduced);
+        if let Some(b) = basis_out.as_mut() {
+            *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis: a.basis });
+        }
+        Ok(())
+    });
+    cancelled_status(status, cancelled)
+}
+
+/// A correction of `jprom_rom_sweep_adaptive`: modes regenerated from the reduced solution at
+/// the point of worst `e*_1` (the value is that point's omega, rad/s).
+pub const JPROM_CORRECTION_REGENERATED: c_int = 0;
+/// A correction of `jprom_rom_sweep_adaptive`: modes predicted with a larger `gamma` (the
+/// value is the new gamma).
+pub const JPROM_CORRECTION_GAMMA_INCREASED: c_int = 1;
+
+/// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
+/// other sweep, and when the first basis was good enough).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.corrections.len();
+        Ok(())
+    })
+}
+
+/// Correction `index` (in order, 0-based) of an adaptive sweep: its kind
+/// (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
+/// regenerated from or the new gamma (`value`), the worst `e*_1` of the sweep before and after
+/// it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
+/// may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
+/// of range, `JPROM_BAD_SIZE` if `len` is nonzero but below `H + 1`; nothing is written then.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_correction(
+    sweep: *const jprom_sweep_result,
+    index: usize,
+    kind: *mut c_int,
+    value: *mut f64,
+    worst_before: *mut f64,
+    worst_after: *mut f64,
+    sizes: *mut usize,
+    len: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        let c = s
+            .corrections
+            .get(index)
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.corrections.len())))?;
+        if len > 0 {
+            check_capacity("sizes", c.sizes.len(), len)?;
+        }
+        let buf = slice_out(sizes, if len > 0 { c.sizes.len() } else { 0 }, "sizes")?;
+        let (k, v) = match c.kind {
+            CorrectionKind::Regenerated { from_omega } => (JPROM_CORRECTION_REGENERATED, from_omega),
+            CorrectionKind::GammaIncreased { gamma } => (JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+        };
+        buf.copy_from_slice(&c.sizes[..buf.len()]);
+        if let Some(x) = kind.as_mut() {
+            *x = k;
+        }
+        if let Some(x) = value.as_mut() {
+            *x = v;
+        }
+        if let Some(x) = worst_before.as_mut() {
+            *x = c.worst_error_before;
+        }
+        if let Some(x) = worst_after.as_mut() {
+            *x = c.worst_error_after;
+        }
+        Ok(())
+    })
+}
+
+/// The actual error `e_h`, `h = 0..H` (method.md §10, paper (44)) of a reduced solution: the
+/// contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
+/// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
+/// full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
+/// reduced ones. `model`, `basis`, `kind` and `options` must be those of the reduced sweep
+/// (they rebuild the reduced model; `JPROM_BAD_SIZE` if the basis does not match the
+/// solution). `H + 1` values go to `buf` of capacity `len`. `JPROM_INVALID_VALUE` if the two
+/// omegas differ (beyond 1e-9 relative), if `rom_solution` is full-order or `full_solution`
+/// reduced. Compare with `jprom_sweep_point_predicted_error` (`e*`, which needs no full-order
+/// solution).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_rom_actual_error(
+    model: *const jprom_model,
+    basis: *const jprom_basis,
+    kind: c_int,
+    options: *const jprom_hbm_options,
+    rom_solution: *const jprom_solution,
+    full_solution: *const jprom_solution,
+    buf: *mut f64,
+    len: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let b = &handle::get(basis, "basis")?.basis;
+        let rs = handle::get(rom_solution, "rom_solution")?;
+        let fs = handle::get(full_solution, "full_solution")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let kind = rom_kind(kind)?;
+        let hopts = hbm_options(o)?;
+        check_capacity("buf", hopts.harmonics + 1, len)?;
+        let buf = slice_out(buf, hopts.harmonics + 1, "buf")?;
+        if rs.origin == Origin::FullOrder {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'rom_solution' is a full-order solution; pass a point of a ROM sweep"));
+        }
+        if fs.origin == Origin::Reduced {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'full_solution' is a reduced solution; pass a full-order one"));
+        }
+        let (rp, fp) = (&rs.point, &fs.point);
+        if !((rp.omega - fp.omega).abs() <= 1e-9 * rp.omega.abs()) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("the solutions are at different frequencies ({} and {} rad/s)", rp.omega, fp.omega)));
+        }
+        let rom = build_rom(m, b, kind, &hopts)?;
+        if rom.layout().sizes != rp.layout.sizes {
+            return Err(FfiError::new(
+                JPROM_BAD_SIZE,
+                format!("'rom_solution' has {:?} reduced unknowns per harmonic, the basis {:?}", rp.layout.sizes, rom.layout().sizes),
+            ));
+        }
+        let (n, nw) = (m.model.n_dof(), rom.n_contact_coords());
+        let n0 = fp.layout.sizes.first().copied().unwrap_or(0);
+        if (n0 != n && n0 != nw) || fp.layout.sizes.iter().any(|&s| s != n0) {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("'full_solution' has {:?} unknowns per harmonic, not {n} (full) or {nw} (condensed)", fp.layout.sizes)));
+        }
+        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+        let e = actual_error(rom.as_ref(), &plan, rp.omega, &rp.z, fp)?;
+        buf.copy_from_slice(&e);
         Ok(())
     })
 }

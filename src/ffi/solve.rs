@@ -8,6 +8,7 @@ use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use crate::condensation::CondensedSystem;
 use crate::hbm::{self, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use crate::rom::Correction;
 use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
@@ -55,11 +56,24 @@ pub struct jprom_sweep_options {
 pub type jprom_progress_fn =
     Option<unsafe extern "C" fn(user_data: *mut c_void, point_index: usize, omega: f64, amplitudes: *const f64, n_outputs: usize) -> c_int>;
 
+/// What computed a solution: it decides whether `z` holds physical (full-order or condensed)
+/// unknowns or reduced ones. Not part of the C API.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Origin {
+    /// `jprom_solve_point`, `jprom_sweep`.
+    FullOrder,
+    /// `jprom_rom_sweep`, `jprom_rom_sweep_adaptive`.
+    Reduced,
+    /// Loaded from a file (the files do not say).
+    Unknown,
+}
+
 /// One converged frequency point. Released with `jprom_solution_free`.
 #[allow(non_camel_case_types)]
 pub struct jprom_solution {
     magic: u64,
-    point: PointSolution,
+    pub(crate) point: PointSolution,
+    pub(crate) origin: Origin,
 }
 
 /// The points of a sweep. Released with `jprom_sweep_free`.
@@ -69,11 +83,14 @@ pub struct jprom_sweep_result {
     pub(crate) result: SweepResult,
     /// `e*_h` per point for reduced sweeps (empty for full-order ones).
     pub(crate) predicted_errors: Vec<Vec<f64>>,
+    /// Corrections of the basis made by `jprom_rom_sweep_adaptive` (empty otherwise).
+    pub(crate) corrections: Vec<Correction>,
+    pub(crate) origin: Origin,
 }
 
 impl jprom_sweep_result {
-    pub(crate) fn wrap(result: SweepResult, predicted_errors: Vec<Vec<f64>>) -> *mut jprom_sweep_result {
-        handle::into_raw(jprom_sweep_result { magic: Self::MAGIC, result, predicted_errors })
+    pub(crate) fn wrap(result: SweepResult, predicted_errors: Vec<Vec<f64>>, corrections: Vec<Correction>, origin: Origin) -> *mut jprom_sweep_result {
+        handle::into_raw(jprom_sweep_result { magic: Self::MAGIC, result, predicted_errors, corrections, origin })
     }
 }
 
@@ -190,7 +207,7 @@ pub unsafe extern "C" fn jprom_solve_point(
         let opts = hbm_options(o)?;
         let sys = system(m, &opts, o.condensed)?;
         let point = hbm::solve_point(sys.as_ref(), finite_arg("omega", omega)?, None, &opts)?;
-        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point });
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::FullOrder });
         Ok(())
     })
 }
@@ -224,7 +241,7 @@ pub unsafe extern "C" fn jprom_sweep(
         let mut on_point = progress_adapter(callback, user_data);
         let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
         cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = jprom_sweep_result::wrap(result, Vec::new());
+        *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::FullOrder);
         Ok(())
     });
     cancelled_status(status, cancelled)
@@ -329,8 +346,9 @@ unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Res
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
+        let origin = handle::get(sweep, "sweep")?.origin;
         let p = sweep_point(sweep, index)?.clone();
-        *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p });
+        *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p, origin });
         Ok(())
     })
 }
@@ -517,13 +535,15 @@ pub unsafe extern "C" fn jprom_solution_save_json(solution: *const jprom_solutio
     })
 }
 
-/// Loads a solution saved by `jprom_solution_save_json`.
+/// Loads a solution saved by `jprom_solution_save_json`. The file does not say whether the
+/// solution is full-order or reduced: `jprom_basis_from_solution` and `jprom_rom_actual_error`
+/// check a loaded solution's sizes only.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
         let point: PointSolution = crate::io::load_json("solution", &path_arg(path, "path")?)?;
-        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point });
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::Unknown });
         Ok(())
     })
 }
@@ -546,7 +566,7 @@ pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *m
     ffi_guard!({
         let out = out_arg(out, "out")?;
         let result: SweepResult = crate::io::load_json("sweep", &path_arg(path, "path")?)?;
-        *out = jprom_sweep_result::wrap(result, Vec::new());
+        *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::Unknown);
         Ok(())
     })
 }

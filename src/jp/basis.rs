@@ -4,7 +4,10 @@
 use super::conditioning::condition;
 use super::modes::{jp_modes, JpModes, ModeOptions};
 use super::ContactJacobian;
+use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
 use crate::error::{JpError, Result};
+use crate::error_metric::full_order_contact_displacement;
+use crate::hbm::PointSolution;
 use crate::linalg::serde_mat_vec;
 use crate::model::ContactCoordinates;
 use faer::Mat;
@@ -76,6 +79,33 @@ impl JpBasis {
     pub fn from_jacobian(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &BasisOptions) -> Result<Self> {
         let modes = jp_modes(coords, k_hat, &opts.modes)?;
         Self::from_raw(&modes.phi, opts.gamma, 1, coords.n_w)
+    }
+
+    /// The basis of a full-order solution's own boundary conditions: the contact displacement
+    /// `w` of `fo` (a point of a [`crate::hbm::FullSystem`], `n` unknowns per coefficient, or of
+    /// a [`crate::condensation::CondensedSystem`], `n_w` per coefficient), its contact stiffness
+    /// `K̂ = dF/dw` by the AFT of `plan` ([`ContactJacobian::from_forces`]), then
+    /// [`JpBasis::from_jacobian`]. With every eigenpair kept this basis reproduces `fo`
+    /// (method.md §6; tests/rom_reproduce.rs).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] if `fo`'s `H` differs from `plan`'s; [`JpError::BadSize`] if
+    /// `fo` is not laid out as a full-order or condensed solution of `coords` (e.g. a reduced
+    /// solution); as [`JpBasis::from_jacobian`].
+    pub fn from_solution(coords: &ContactCoordinates, fo: &PointSolution, plan: &AftPlan, opts: &BasisOptions) -> Result<Self> {
+        let hh = plan.harmonics();
+        if fo.layout.harmonics != hh {
+            return Err(JpError::invalid("full-order solution", format!("H = {}, AFT plan H = {hh}", fo.layout.harmonics)));
+        }
+        let n0 = fo.layout.sizes[0];
+        if (n0 != coords.n_dof && n0 != coords.n_w) || fo.layout.sizes.iter().any(|&s| s != n0) {
+            return Err(JpError::bad_size("full-order solution unknowns per harmonic (n or n_w for every h)", coords.n_dof, n0));
+        }
+        let w = full_order_contact_displacement(fo, coords.n_w)?;
+        let mut forces = ContactForces::default();
+        evaluate_contacts(plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
+        let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, hh, &forces, &w)?;
+        Self::from_jacobian(coords, &k_hat, opts)
     }
 
     /// Stacks (36) the modes of several boundary conditions and conditions them.

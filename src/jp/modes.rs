@@ -17,8 +17,11 @@
 //!    With these, the linearised static condensation (28) of any combination of the dynamic
 //!    columns is exactly in the span of `Φ_0`.
 //!
-//! The dense path costs `O((2 H n)^3)`; it is meant for Craig-Bampton-sized models
-//! (`n` up to a few hundred).
+//! Two eigen solvers ([`EigenSolver`]): the dense path costs `O((2 H n)^3)` and suits
+//! Craig-Bampton-sized models (`2 H n` up to a few hundred); the shift-invert path
+//! ([`super::shift_invert`]) finds the few eigenpairs around the band by Arnoldi over one
+//! factorisation of `K - σ h^2 M` per harmonic and a correction on the contact coordinates,
+//! and never forms the dense `K_JC` unless the static correction asks for it.
 
 use super::{col_norm, lu_solve, stack_columns, ContactJacobian};
 use crate::error::{JpError, Result};
@@ -146,33 +149,21 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     let sol = lu_solve("K + K̂_00 (static condensation (28))", &a0, &rhs)?;
     let g_ww = sol.as_ref().submatrix(0, 0, nw, nw).to_owned();
 
-    // (30): K_JC on the 2H coefficients 1..=2H (block c - 1 of size n).
-    let nj = 2 * hh;
-    let mut kjc = Mat::<f64>::zeros(nj * n, nj * n);
-    for c in 0..nj {
-        kjc.as_mut().submatrix_mut(c * n, c * n, n, n).copy_from(&coords.stiffness);
-    }
-    for ci in 1..=nj {
-        let ki0 = k_hat.block(ci, 0);
-        let left = ki0 * &g_ww; // K̂_i0 A0^-1|_ww
-        for cj in 1..=nj {
-            let corr = &left * k_hat.block(0, cj);
-            let kij = k_hat.block(ci, cj);
-            for j in 0..nw {
-                for i in 0..nw {
-                    kjc[((ci - 1) * n + i, (cj - 1) * n + j)] += kij[(i, j)] - corr[(i, j)];
-                }
-            }
-        }
-    }
+    // (30): the dense K_JC is needed by the dense eigen solve and by the static correction;
+    // the shift-invert path works from K̂ and A_0^-1|_ww alone.
+    let solver = opts.solver.resolve(2 * hh * n);
+    let kjc = if solver != EigenSolver::ShiftInvert || opts.static_correction { Some(condensed_stiffness(coords, k_hat, &g_ww)) } else { None };
 
     // A singular K_JC (a structure free in some direction once its contacts slip) has no
     // static correction; the eigenvectors alone then make the basis.
-    let corrections = if opts.static_correction { static_corrections(coords, k_hat, &kjc, &sol).unwrap_or_default() } else { Vec::new() };
+    let corrections = match (&kjc, opts.static_correction) {
+        (Some(kjc), true) => static_corrections(coords, k_hat, kjc, &sol).unwrap_or_default(),
+        _ => Vec::new(),
+    };
 
-    let (eigenvalues, v_re, v_im) = match opts.solver.resolve(2 * hh * n) {
-        EigenSolver::ShiftInvert => super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?,
-        _ => dense_eigenpairs(coords, kjc, hh, opts)?,
+    let (eigenvalues, v_re, v_im) = match kjc {
+        Some(kjc) if solver != EigenSolver::ShiftInvert => dense_eigenpairs(coords, kjc, hh, opts)?,
+        _ => super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?,
     };
     let m = eigenvalues.len();
 
@@ -349,4 +340,28 @@ fn dense_eigenpairs(coords: &ContactCoordinates, mut kjc: Mat<f64>, hh: usize, o
 
     let eigenvalues = keep.iter().map(|&k| (s[k].re, s[k].im)).collect();
     Ok((eigenvalues, v_re, v_im))
+}
+
+/// The condensed stiffness `K_JC` (30) on the coefficients `1..=2H` (block `c - 1` of size `n`):
+/// `δ_ij K + K̂_ij - K̂_i0 A_0^-1|_ww K̂_0j`, dense.
+fn condensed_stiffness(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>) -> Mat<f64> {
+    let (n, nw) = (coords.n_dof, coords.n_w);
+    let nj = 2 * k_hat.harmonics;
+    let mut kjc = Mat::<f64>::zeros(nj * n, nj * n);
+    for c in 0..nj {
+        kjc.as_mut().submatrix_mut(c * n, c * n, n, n).copy_from(&coords.stiffness);
+    }
+    for ci in 1..=nj {
+        let left = k_hat.block(ci, 0) * g_ww; // K̂_i0 A0^-1|_ww
+        for cj in 1..=nj {
+            let corr = &left * k_hat.block(0, cj);
+            let kij = k_hat.block(ci, cj);
+            for j in 0..nw {
+                for i in 0..nw {
+                    kjc[((ci - 1) * n + i, (cj - 1) * n + j)] += kij[(i, j)] - corr[(i, j)];
+                }
+            }
+        }
+    }
+    kjc
 }

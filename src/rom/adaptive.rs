@@ -11,7 +11,7 @@ use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
 use crate::error_metric::{predicted_error, POOR_BASIS_THRESHOLD};
-use crate::hbm::{sweep, HbmOptions, SweepOptions, SweepResult};
+use crate::hbm::{sweep, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use crate::jp::{predict_basis, GeneratingShape, JpBasis, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
 use serde::{Deserialize, Serialize};
@@ -96,8 +96,15 @@ struct Pass {
     worst_at: usize,
 }
 
-fn run_pass(rom: &dyn ReducedModel, sopts: &SweepOptions, hopts: &HbmOptions, plan: &AftPlan) -> Result<Pass> {
-    let sw = sweep(rom, sopts, hopts, &mut |_| ControlFlow::Continue(()))?;
+fn run_pass(
+    rom: &dyn ReducedModel,
+    sopts: &SweepOptions,
+    hopts: &HbmOptions,
+    plan: &AftPlan,
+    pass: usize,
+    on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
+) -> Result<Pass> {
+    let sw = sweep(rom, sopts, hopts, &mut |p: &PointSolution| on_point(pass, p))?;
     let mut errors = Vec::with_capacity(sw.points.len());
     let mut worst = -1.0f64;
     let mut worst_at = 0;
@@ -130,6 +137,25 @@ pub fn adaptive_sweep(
     hopts: &HbmOptions,
     aopts: &AdaptiveOptions,
 ) -> Result<AdaptiveSweep> {
+    adaptive_sweep_with_progress(model, pred, sopts, hopts, aopts, &mut |_, _| ControlFlow::Continue(()))
+}
+
+/// [`adaptive_sweep`] reporting progress: `on_point(pass, point)` is called after each
+/// converged point of each reduced sweep (`pass` 0 for the first basis, `k` after the `k`-th
+/// correction). If it returns `Break`, that sweep stops there (`sweep.end` is
+/// [`crate::hbm::SweepEnd::StoppedByCaller`]) and no further correction is made: the result
+/// holds the points of the stopped pass, their `e*` and the basis they were computed with.
+///
+/// # Errors
+/// As [`adaptive_sweep`].
+pub fn adaptive_sweep_with_progress(
+    model: &Model,
+    pred: &PredictionOptions,
+    sopts: &SweepOptions,
+    hopts: &HbmOptions,
+    aopts: &AdaptiveOptions,
+    on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
+) -> Result<AdaptiveSweep> {
     if pred.harmonics != hopts.harmonics {
         return Err(JpError::invalid("PredictionOptions.harmonics", format!("{} differs from HbmOptions.harmonics {}", pred.harmonics, hopts.harmonics)));
     }
@@ -145,10 +171,10 @@ pub fn adaptive_sweep(
     let mut popts = pred.clone();
     let (mut basis, mut prediction) = predict_basis(&coords, &popts)?;
     let mut rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &basis)?;
-    let mut pass = run_pass(rom.as_ref(), sopts, hopts, &plan)?;
+    let mut pass = run_pass(rom.as_ref(), sopts, hopts, &plan, 0, on_point)?;
     let mut corrections = Vec::new();
     let mut regenerate_next = true;
-    while pass.worst > aopts.threshold && corrections.len() < aopts.max_corrections {
+    while pass.worst > aopts.threshold && corrections.len() < aopts.max_corrections && pass.sweep.end != SweepEnd::StoppedByCaller {
         let before = pass.worst;
         let kind = if regenerate_next {
             let p = &pass.sweep.points[pass.worst_at];
@@ -163,7 +189,7 @@ pub fn adaptive_sweep(
         let (fresh, r) = predict_basis(&coords, &popts)?;
         let b = basis.union(&fresh, popts.gamma)?;
         let new_rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &b)?;
-        let new_pass = run_pass(new_rom.as_ref(), sopts, hopts, &plan)?;
+        let new_pass = run_pass(new_rom.as_ref(), sopts, hopts, &plan, corrections.len() + 1, on_point)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
         // Regenerate again only if it helped; otherwise grow gamma next.
         regenerate_next = new_pass.worst < 0.5 * before && popts.gamma < aopts.max_gamma;

@@ -9,7 +9,7 @@ pub mod adaptive;
 pub mod fr;
 pub mod nlr;
 
-pub use adaptive::{adaptive_sweep, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionKind, RomKind};
+pub use adaptive::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionKind, RomKind};
 pub use fr::FrRom;
 pub use nlr::NlrRom;
 

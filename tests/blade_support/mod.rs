@@ -35,7 +35,13 @@ pub struct Blade {
 
 impl Blade {
     pub fn build() -> Blade {
-        let cb = BuiltinBlade::build(&BladeParams::default()).unwrap().reduce(50).unwrap();
+        Self::build_refined(1)
+    }
+
+    /// The blade with contact refinement `r` (18 contact nodes at 1, 242 at 5), CB(50).
+    pub fn build_refined(refinement: usize) -> Blade {
+        let params = BladeParams { refinement, ..BladeParams::default() };
+        let cb = BuiltinBlade::build(&params).unwrap().reduce(50).unwrap();
         let f_st = cb.natural_frequencies_hz(true).unwrap()[0];
         let omega_stuck = 2.0 * PI * f_st;
         let model = cb.to_model(Damping::from_modal_ratio(ZETA, omega_stuck)).unwrap();

@@ -118,6 +118,105 @@ int main(void) {
     }
     jprom_sweep_free(sweep);
 
+    /* the JP workflow: options, self-correcting sweep, basis from a solution, actual error, on
+     * the examples' model (node 0 on springs, node 1 against ground by a friction contact) */
+    enum { NJ = 6 };
+    double mj[NJ * NJ] = {0}, kj[NJ * NJ] = {0}, fj_cos[NJ] = {5.0, 0, 0, 0, 0, 0}, fj_sin[NJ] = {0};
+    for (int d = 0; d < 3; ++d) {
+        mj[d + d * NJ] = 1.0;
+        mj[(3 + d) + (3 + d) * NJ] = 1.0;
+        kj[d + d * NJ] = 2.0e4;
+        kj[(3 + d) + (3 + d) * NJ] = 1.0e4;
+        kj[d + (3 + d) * NJ] = -1.0e4;
+        kj[(3 + d) + d * NJ] = -1.0e4;
+    }
+    const size_t node1[3] = {3, 4, 5}, outs_j[2] = {0, 3};
+    jprom_model *jm = NULL;
+    expect(jprom_model_new(NJ, mj, kj, &jm), JPROM_OK, "JP model");
+    expect(jprom_model_add_contact_3d(jm, node1, NULL, frame, 3.0e4, 3.0e4, 5.0e4, 0.5, 20.0), JPROM_OK, "JP model contact");
+    expect(jprom_model_set_rayleigh_damping(jm, 0.0, 1.0e-4), JPROM_OK, "JP model damping");
+    expect(jprom_model_set_harmonic_force(jm, 1, fj_cos, fj_sin, NJ), JPROM_OK, "JP model forcing");
+    expect(jprom_model_set_output_dofs(jm, outs_j, 2), JPROM_OK, "JP model outputs");
+    sopts.omega_start = 60.0;
+    sopts.omega_end = 160.0;
+    jprom_jp_options jo;
+    expect(jprom_jp_options_default(NULL), JPROM_NULL_ARGUMENT, "jp options default into NULL");
+    expect(jprom_jp_options_default(&jo), JPROM_OK, "jp options default");
+    jprom_basis *basis = NULL;
+    jprom_sweep_result *rom = NULL;
+    jo.struct_size = 3;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_BAD_SIZE, "jp options not from jprom_jp_options_default");
+    jprom_jp_options_default(&jo);
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, NULL, NULL, NULL, &rom, &basis), JPROM_NULL_ARGUMENT, "NULL jp options");
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, NULL, &basis), JPROM_NULL_ARGUMENT, "adaptive sweep into NULL");
+    expect(jprom_rom_sweep_adaptive(NULL, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_NULL_ARGUMENT, "adaptive sweep of a NULL model");
+    expect(jprom_rom_sweep_adaptive(jm, 7, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_INVALID_VALUE, "adaptive sweep of ROM kind 7");
+    jo.threshold = NAN;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_INVALID_VALUE, "NaN threshold");
+    jo.threshold = 0.0;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_INVALID_VALUE, "zero threshold");
+    jprom_jp_options_default(&jo);
+    jo.gamma_growth = 1.0;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_FR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_INVALID_VALUE, "gamma_growth 1");
+    jprom_jp_options_default(&jo);
+    jo.max_gamma = jo.gamma / 2;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_FR, &opts, &sopts, &jo, NULL, NULL, &rom, &basis), JPROM_INVALID_VALUE, "max_gamma below gamma");
+    jprom_jp_options_default(&jo);
+    jo.n_samples = 0;
+    expect(jprom_basis_predict_opts(jm, &opts, &jo, 60.0, 160.0, &basis), JPROM_INVALID_VALUE, "prediction with 0 samples");
+    jprom_jp_options_default(&jo);
+    jo.gamma = NAN;
+    expect(jprom_basis_predict_opts(jm, &opts, &jo, 60.0, 160.0, &basis), JPROM_INVALID_VALUE, "NaN gamma");
+    jprom_jp_options_default(&jo);
+    expect(jprom_basis_predict_opts(jm, &opts, &jo, NAN, 160.0, &basis), JPROM_INVALID_VALUE, "NaN band");
+    if (basis != NULL || rom != NULL) { printf("FAIL basis or sweep written on failure\n"); failures++; }
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, stop_at_third, NULL, &rom, &basis), JPROM_CANCELLED, "callback stops the adaptive sweep");
+    np = 0;
+    expect(jprom_sweep_n_points(rom, &np), JPROM_OK, "points of a cancelled adaptive sweep");
+    if (np != 3 || basis == NULL) { printf("FAIL cancelled adaptive sweep kept %zu points, basis %p\n", np, (void *)basis); failures++; }
+    size_t ncorr = 99;
+    expect(jprom_sweep_n_corrections(rom, &ncorr), JPROM_OK, "corrections of a cancelled sweep");
+    if (ncorr != 0) { printf("FAIL %zu corrections after a cancelled first pass\n", ncorr); failures++; }
+    expect(jprom_sweep_n_corrections(NULL, &ncorr), JPROM_NULL_ARGUMENT, "corrections of a NULL sweep");
+    int ckind = -1;
+    expect(jprom_sweep_correction(rom, 0, &ckind, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_VALUE, "correction index out of range");
+    if (ckind != -1) { printf("FAIL correction kind written on failure\n"); failures++; }
+    expect(jprom_sweep_correction((const jprom_sweep_result *)jm, 0, NULL, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_HANDLE, "a model passed as a sweep");
+
+    jprom_solution *fo = NULL, *fo_other = NULL, *red = NULL;
+    expect(jprom_solve_point(jm, 60.0, &opts, &fo), JPROM_OK, "full-order point at the first reduced omega");
+    expect(jprom_sweep_point(rom, 0, &red), JPROM_OK, "reduced point 0");
+    jprom_basis *own = NULL;
+    expect(jprom_basis_from_solution(jm, NULL, &opts, &jo, 60.0, 160.0, &own), JPROM_NULL_ARGUMENT, "basis from a NULL solution");
+    expect(jprom_basis_from_solution(jm, (const jprom_solution *)rom, &opts, &jo, 60.0, 160.0, &own), JPROM_INVALID_HANDLE, "a sweep passed as a solution");
+    expect(jprom_basis_from_solution(jm, red, &opts, &jo, 60.0, 160.0, &own), JPROM_INVALID_VALUE, "basis from a reduced solution");
+    expect(jprom_basis_from_solution(jm, fo, &opts, &jo, 60.0, NAN, &own), JPROM_INVALID_VALUE, "basis from a solution, NaN band");
+    jprom_hbm_options opts3 = opts;
+    opts3.harmonics = 3;
+    expect(jprom_basis_from_solution(jm, fo, &opts3, &jo, 60.0, 160.0, &own), JPROM_INVALID_VALUE, "basis from a solution of another H");
+    if (own != NULL) { printf("FAIL basis written on failure\n"); failures++; }
+    expect(jprom_basis_from_solution(jm, fo, &opts, &jo, 60.0, 160.0, &own), JPROM_OK, "basis from a full-order solution");
+
+    double e[2] = {-1.0, -1.0};
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, red, fo, NULL, 2), JPROM_NULL_ARGUMENT, "actual error into NULL");
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, red, fo, e, 1), JPROM_BAD_SIZE, "actual error buffer too small");
+    expect(jprom_rom_actual_error(jm, basis, 2, &opts, red, fo, e, 2), JPROM_INVALID_VALUE, "actual error of ROM kind 2");
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, fo, fo, e, 2), JPROM_INVALID_VALUE, "actual error of a full-order 'reduced' solution");
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, red, red, e, 2), JPROM_INVALID_VALUE, "actual error against a reduced 'full-order' solution");
+    expect(jprom_rom_actual_error(jm, (const jprom_basis *)fo, JPROM_ROM_NLR, &opts, red, fo, e, 2), JPROM_INVALID_HANDLE, "a solution passed as a basis");
+    expect(jprom_solve_point(jm, 70.0, &opts, &fo_other), JPROM_OK, "full-order point at another omega");
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, red, fo_other, e, 2), JPROM_INVALID_VALUE, "actual error at two frequencies");
+    if (e[0] != -1.0 || e[1] != -1.0) { printf("FAIL actual error written on failure\n"); failures++; }
+    expect(jprom_rom_actual_error(jm, basis, JPROM_ROM_NLR, &opts, red, fo, e, 2), JPROM_OK, "actual error at point 0");
+    if (!(e[1] >= 0.0 && e[1] < 1.0)) { printf("FAIL actual error %g\n", e[1]); failures++; }
+    jprom_solution_free(fo);
+    jprom_solution_free(fo_other);
+    jprom_solution_free(red);
+    jprom_basis_free(own);
+    jprom_basis_free(basis);
+    jprom_sweep_free(rom);
+    jprom_model_free(jm);
+
     expect(jprom_model_load_json("/nonexistent/dir/model.json", &model), JPROM_IO, "load from a missing file");
 
     /* message copy into a short buffer: truncated, NUL-terminated, full length reported */
