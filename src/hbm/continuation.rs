@@ -20,7 +20,7 @@
 
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
 use super::solve::{finish_point, lu_checked, lu_solve, newton, plan_for, reference_force, NewtonOutcome};
-use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
 use crate::linalg::norm2;
@@ -272,10 +272,9 @@ pub fn sweep(
         res
     };
 
-    // First point at omega_start.
-    let lin0 = system.linear_part(w0)?;
-    let first = newton(system, &lin0, plan, vec![0.0; n], hopts, w0, &mut ws)?;
-    let first = finish_point(system, plan, w0, first, &mut ws)?;
+    // First point at omega_start, with the point solver's load-stepping fallback (a reduced
+    // model regenerated mid-workflow can leave Newton from zero stuck at a local minimum).
+    let first = super::solve_point(system, w0, None, hopts)?;
     let mut z_ref = characteristic_displacement(system, &first.z);
     let mut y: Vec<f64> = first.z.iter().copied().chain([w0]).collect();
     let stop = on_point(&first).is_break();
@@ -333,6 +332,9 @@ pub fn sweep(
         let factor = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);
         ds = (ds * factor).clamp(sopts.min_step, sopts.max_step);
         let new_omega = corrected.y[n];
+        if (new_omega - w0) * direction < -LEFT_BAND_MARGIN * span {
+            return Ok(finish(result, SweepEnd::LeftBand, None));
+        }
         let passed_end = (new_omega - w1) * direction >= 0.0;
         let point = if passed_end {
             // Fixed-frequency solve at omega_end from the interpolated guess.

@@ -25,7 +25,7 @@ pub use continuation::sweep;
 pub use full::FullSystem;
 pub use layout::HarmonicLayout;
 pub use options::{default_nt, HbmOptions, SweepOptions};
-pub use solution::{PointSolution, SweepEnd, SweepResult};
+pub use solution::{PointSolution, SweepEnd, SweepResult, LEFT_BAND_MARGIN};
 pub use solve::solve_point;
 
 use crate::contact::ContactLaw;

@@ -63,7 +63,14 @@ pub enum SweepEnd {
     StepTooSmall,
     /// `max_points` points were computed before reaching `omega_end`.
     MaxPoints,
+    /// The branch turned back at a fold and left the band behind `omega_start` by more than
+    /// [`LEFT_BAND_MARGIN`] of its width; the points up to there are kept.
+    LeftBand,
 }
+
+/// How far (as a fraction of the band width) a branch may run back past `omega_start` before
+/// the sweep ends with [`SweepEnd::LeftBand`].
+pub const LEFT_BAND_MARGIN: f64 = 0.1;
 
 /// A branch of converged points from a pseudo-arclength sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
