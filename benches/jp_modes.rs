@@ -8,12 +8,12 @@
 //! `JPROM_BENCH_PREDICT=0` skips `predict_basis`. `JPROM_BENCH_DENSE_MAX` (default 180 s): a dense case whose estimated time (the H = 1 time
 //! times `(2H n)^3` scaling) exceeds this many seconds is skipped.
 
-use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
+#[path = "../tests/jp_support/mod.rs"]
+mod jp_support;
+
+use jp_support::slipping_jacobian as jacobian;
 use jprom::cms::{BladeParams, BuiltinBlade};
-use jprom::contact::ContactState;
-use jprom::hbm::default_nt;
-use jprom::jp::prediction::static_solution;
-use jprom::jp::{jp_modes, predict_basis, stuck_mode, ContactJacobian, EigenSolver, ModeOptions, PredictionOptions};
+use jprom::jp::{jp_modes, predict_basis, EigenSolver, ModeOptions, PredictionOptions};
 use jprom::model::{ContactCoordinates, Damping, Model};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -27,47 +27,6 @@ fn blade(refinement: usize) -> (Model, (f64, f64), usize) {
     // The benchmark band of method.md §11 (2140-2190 Hz around 2165 Hz), around this mesh's
     // stuck first bending.
     (model, (2.0 * PI * (f_st - 25.0), 2.0 * PI * (f_st + 25.0)), nc)
-}
-
-/// Contact stiffness at the static solution plus `factor` times the largest all-stuck
-/// amplitude of the stuck mode (cos part); `factor = 0`: stuck.
-fn jacobian(coords: &ContactCoordinates, harmonics: usize, band: (f64, f64), factor: f64) -> ContactJacobian {
-    let nw = coords.n_w;
-    if factor == 0.0 {
-        return ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, harmonics).unwrap();
-    }
-    let plan = AftPlan::new(harmonics, default_nt(harmonics)).unwrap();
-    let q0 = static_solution(coords, &plan).unwrap();
-    let (_, phi) = stuck_mode(coords, band).unwrap();
-    let w_at = |p: f64| {
-        let mut w = vec![0.0; nw * (2 * harmonics + 1)];
-        w[..nw].copy_from_slice(&q0[..nw]);
-        for i in 0..nw {
-            w[nw + i] = p * phi[i];
-        }
-        w
-    };
-    let eval = |p: f64| {
-        let mut f = ContactForces::default();
-        evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w_at(p), true, true, &mut f);
-        f
-    };
-    let stuck = |f: &ContactForces| f.cycles.iter().all(|c| c.states.iter().all(|&s| s == ContactState::Stick));
-    let mut hi = q0[..nw].iter().map(|x| x.abs()).fold(0.0, f64::max).max(1e-12);
-    while stuck(&eval(hi)) {
-        hi *= 2.0;
-    }
-    let mut lo = 0.0;
-    for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        if stuck(&eval(mid)) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let p = factor * hi;
-    ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, harmonics, &eval(p), &w_at(p)).unwrap()
 }
 
 fn main() {

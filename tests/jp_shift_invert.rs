@@ -10,12 +10,8 @@ mod blade_support;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use jp_support::*;
-use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
-use jprom::contact::ContactState;
-use jprom::hbm::default_nt;
-use jprom::jp::prediction::static_solution;
 use jprom::jp::shift_invert::{shift_invert_eigenpairs, CondensedProblem, ShiftedFactorisation, ShiftedSolve};
-use jprom::jp::{jp_modes, stuck_mode, BasisOptions, ContactJacobian, EigenSolver, JpBasis, JpModes, ModeOptions};
+use jprom::jp::{jp_modes, BasisOptions, ContactJacobian, EigenSolver, JpBasis, JpModes, ModeOptions};
 use jprom::model::{ContactCoordinates, Model};
 
 /// Orthonormal basis of the columns of `a` (rank by singular values above `1e-10 s_max`).
@@ -36,56 +32,6 @@ fn chain() -> Model {
 fn chain_band(model: &Model) -> (f64, f64) {
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(model), &model.mass);
     (0.5 * (freqs[1] + freqs[2]), 0.5 * (freqs[4] + freqs[5]))
-}
-
-/// Contact stiffness at the static solution plus `p` times the stuck mode (cos part), with
-/// `p` a multiple `factor` of the largest all-stuck amplitude (factor 0: fully stuck `K̂`).
-fn slipping_jacobian(coords: &ContactCoordinates, harmonics: usize, band: (f64, f64), factor: f64) -> ContactJacobian {
-    let nw = coords.n_w;
-    if factor == 0.0 {
-        return ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, harmonics).unwrap();
-    }
-    let plan = AftPlan::new(harmonics, default_nt(harmonics)).unwrap();
-    let q0 = static_solution(coords, &plan).unwrap();
-    let (_, phi) = stuck_mode(coords, band).unwrap();
-    let w_at = |p: f64| {
-        let mut w = vec![0.0; nw * (2 * harmonics + 1)];
-        w[..nw].copy_from_slice(&q0[..nw]);
-        for i in 0..nw {
-            w[nw + i] = p * phi[i];
-        }
-        w
-    };
-    let eval = |p: f64| {
-        let mut f = ContactForces::default();
-        evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w_at(p), true, true, &mut f);
-        f
-    };
-    let stuck = |f: &ContactForces| f.cycles.iter().all(|c| c.states.iter().all(|&s| s == ContactState::Stick));
-    let mut hi = q0[..nw].iter().map(|x| x.abs()).fold(0.0, f64::max).max(1e-12);
-    while stuck(&eval(hi)) {
-        hi *= 2.0;
-    }
-    let mut lo = 0.0;
-    for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        if stuck(&eval(mid)) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    // Above the first slip the steady state can still shake down to full stick (a slip in the
-    // first AFT pass moves the stick point), so step up until some contact slips.
-    let n_slip = |f: &ContactForces| f.cycles.iter().filter(|c| c.states.iter().any(|&s| s != ContactState::Stick)).count();
-    let mut p = factor * hi;
-    let mut forces = eval(p);
-    while n_slip(&forces) == 0 && p < 1e3 * hi {
-        p *= 1.25;
-        forces = eval(p);
-    }
-    assert!(n_slip(&forces) > 0, "no contact slips up to {p:e} (factor {factor})");
-    ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, harmonics, &forces, &w_at(p)).unwrap()
 }
 
 /// `|(I - P_a) b|_2 / |b|_2` with `P_a` the projector on the columns of `a` (rank at 1e-12).

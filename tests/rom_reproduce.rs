@@ -9,7 +9,7 @@ use jp_support::*;
 use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
 use jprom::condensation::CondensedSystem;
 use jprom::error_metric::{actual_error, full_order_contact_displacement, output_error, predicted_error};
-use jprom::hbm::{solve_point, FullSystem, HarmonicSystem, HbmOptions, PointSolution};
+use jprom::hbm::{solve_point, FullSystem, HbmOptions, PointSolution};
 use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
 use jprom::model::{ContactCoordinates, Model};
 use jprom::rom::{FrRom, NlrRom, ReducedModel};

@@ -5,6 +5,12 @@
 use faer::Mat;
 use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
+use jprom::contact::ContactState;
+use jprom::hbm::default_nt;
+use jprom::jp::prediction::static_solution;
+use jprom::jp::{stuck_mode, ContactJacobian};
+use jprom::model::ContactCoordinates;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 /// Options of [`chain_model`].
@@ -173,4 +179,54 @@ pub fn span_residual(a_orth: &Mat<f64>, b: &Mat<f64>) -> f64 {
         worst = worst.max((&col - &proj).norm_l2() / nrm);
     }
     worst
+}
+
+/// Contact stiffness at the static solution plus `p` times the stuck mode (cos part), with
+/// `p` a multiple `factor` of the largest all-stuck amplitude (factor 0: fully stuck `K̂`).
+pub fn slipping_jacobian(coords: &ContactCoordinates, harmonics: usize, band: (f64, f64), factor: f64) -> ContactJacobian {
+    let nw = coords.n_w;
+    if factor == 0.0 {
+        return ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, harmonics).unwrap();
+    }
+    let plan = AftPlan::new(harmonics, default_nt(harmonics)).unwrap();
+    let q0 = static_solution(coords, &plan).unwrap();
+    let (_, phi) = stuck_mode(coords, band).unwrap();
+    let w_at = |p: f64| {
+        let mut w = vec![0.0; nw * (2 * harmonics + 1)];
+        w[..nw].copy_from_slice(&q0[..nw]);
+        for i in 0..nw {
+            w[nw + i] = p * phi[i];
+        }
+        w
+    };
+    let eval = |p: f64| {
+        let mut f = ContactForces::default();
+        evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w_at(p), true, true, &mut f);
+        f
+    };
+    let stuck = |f: &ContactForces| f.cycles.iter().all(|c| c.states.iter().all(|&s| s == ContactState::Stick));
+    let mut hi = q0[..nw].iter().map(|x| x.abs()).fold(0.0, f64::max).max(1e-12);
+    while stuck(&eval(hi)) {
+        hi *= 2.0;
+    }
+    let mut lo = 0.0;
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if stuck(&eval(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // Above the first slip the steady state can still shake down to full stick (a slip in the
+    // first AFT pass moves the stick point), so step up until some contact slips.
+    let n_slip = |f: &ContactForces| f.cycles.iter().filter(|c| c.states.iter().any(|&s| s != ContactState::Stick)).count();
+    let mut p = factor * hi;
+    let mut forces = eval(p);
+    while n_slip(&forces) == 0 && p < 1e3 * hi {
+        p *= 1.25;
+        forces = eval(p);
+    }
+    assert!(n_slip(&forces) > 0, "no contact slips up to {p:e} (factor {factor})");
+    ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, harmonics, &forces, &w_at(p)).unwrap()
 }
