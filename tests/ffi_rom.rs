@@ -305,23 +305,38 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
 fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
     let band = (80.0, 200.0);
     let omega = 120.0;
-    let model = rust_model();
     let hopts = HbmOptions::with_harmonics(1);
-    let coords = ContactCoordinates::new(&model, 1).unwrap();
     let plan = AftPlan::new(1, hopts.nt()).unwrap();
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
-    let fo = solve_point(&cond, omega, None, &hopts).unwrap();
-    let mut modes = ModeOptions::in_band(band);
-    modes.extra_outside = 2;
-    let basis = JpBasis::from_solution(&coords, &fo, &plan, &BasisOptions { modes, gamma: 1e3 }).unwrap();
-    let rom = NlrRom::new(&cond, &basis).unwrap();
-    let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
     unsafe {
         let m = c_model();
+        // The Rust side works on the model the C API holds (saved and reloaded bit for bit).
+        let mpath = std::env::temp_dir().join(format!("jprom_ffi_rom_model_{}.json", std::process::id()));
+        let cmpath = std::ffi::CString::new(mpath.to_str().unwrap()).unwrap();
+        ok(jprom_model_save_json(m, cmpath.as_ptr()));
+        let model: Model = jprom::io::load_json("model", &mpath).unwrap();
+        let _ = std::fs::remove_file(&mpath);
+        let coords = ContactCoordinates::new(&model, 1).unwrap();
+        let cond = CondensedSystem::new(&model, &hopts).unwrap();
+        let fo = solve_point(&cond, omega, None, &hopts).unwrap();
         let (opts, sopts, mut jo) = c_options(band);
         jo.extra_outside = 2;
         let mut fs = std::ptr::null_mut();
         ok(jprom_solve_point(m, omega, &opts, &mut fs));
+        // The C solve is the Rust one to round-off; the basis is built from the C solution on
+        // both sides, since a stuck pair's eigenvectors turn with the last bit of K̂.
+        let path = std::env::temp_dir().join(format!("jprom_ffi_rom_fo_{}.json", std::process::id()));
+        let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        ok(jprom_solution_save_json(fs, cpath.as_ptr()));
+        let fo_c: jprom::hbm::PointSolution = jprom::io::load_json("solution", &path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        let d = fo_c.z.iter().zip(&fo.z).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let zmax = fo.z.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        assert!(d <= 1e-10 * zmax, "C and Rust full-order solutions differ by {d:e}");
+        let mut modes = ModeOptions::in_band(band);
+        modes.extra_outside = 2;
+        let basis = JpBasis::from_solution(&coords, &fo_c, &plan, &BasisOptions { modes, gamma: 1e3 }).unwrap();
+        let rom = NlrRom::new(&cond, &basis).unwrap();
+        let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
         let mut b = std::ptr::null_mut();
         ok(jprom_basis_from_solution(m, fs, &opts, &jo, band.0, band.1, &mut b));
         assert_eq!(basis_sizes(b), basis.sizes);
@@ -329,8 +344,12 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         ok(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut s));
         let rows = c_rows(s);
         assert_eq!(rows.len(), expect.points.len());
+        // Same span, but not the same vectors: the C and Rust bases of one solution differ in
+        // the rotation of a stuck pair's eigenvectors (measured: equal model and solution files,
+        // each side reproducible bit for bit), so the sweeps agree to round-off, not bitwise.
         for ((w, a, _), p) in rows.iter().zip(&expect.points) {
-            assert_eq!((*w, *a), (p.omega, p.output_amplitude(1, 1)));
+            let (ew, ea) = ((w - p.omega).abs() / p.omega, (a - p.output_amplitude(1, 1)).abs() / p.output_amplitude(1, 1));
+            assert!(ew <= 1e-10 && ea <= 1e-8, "omega {w} vs {}, amplitude {a:e} vs {:e}", p.omega, p.output_amplitude(1, 1));
         }
         // the actual error at the first reduced point against a full-order solve there
         let p0 = &expect.points[0];
@@ -342,7 +361,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         ok(jprom_solve_point(m, p0.omega, &opts, &mut fs0));
         let mut e = [f64::NAN; 2];
         ok(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs0, e.as_mut_ptr(), 2));
-        assert_eq!(e.to_vec(), want);
+        assert!(e.iter().zip(&want).all(|(x, y)| (x - y).abs() <= 1e-9 && *x <= 1e-9), "{e:?} vs {want:?}");
         // a full-order solution on all DoFs gives the same contact forces to round-off (the
         // basis is exact here: e ~ 1e-15)
         let mut full_opts = opts;

@@ -415,6 +415,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     popts.nt = Some(study.hbm.nt);
     popts.gamma = study.basis.gamma;
     popts.n_samples = study.basis.samples;
+    popts.modes.extra_outside = study.basis.extra_modes;
     let omega_st = crate::jp::prediction::stuck_mode(&coords, band)?.0;
     let plan = AftPlan::new(h, study.hbm.nt)?;
     let static_z = crate::jp::prediction::static_solution(&coords, &plan)?;

@@ -436,6 +436,9 @@ pub struct BasisSpec {
     pub error_threshold: f64,
     /// Most basis corrections of the self-correcting sweep per level and ROM.
     pub max_corrections: usize,
+    /// JP eigenpairs kept beyond the band, nearest first (`ModeOptions::extra_outside`): at
+    /// gross slip the slipping mode leaves the band, and the in-band ones alone may miss it.
+    pub extra_modes: usize,
     /// Error vs basis size: at each level, one predicted basis per `gamma` in this list, each
     /// ROM solved at the full-order resonance (needs `solvers.full_order`). Empty: no study.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -444,7 +447,7 @@ pub struct BasisSpec {
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 3, gamma_study: Vec::new() }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 3, extra_modes: 2, gamma_study: Vec::new() }
     }
 }
 

@@ -171,8 +171,34 @@ pub fn adaptive_sweep_with_progress(
     let mut popts = pred.clone();
     let (mut basis, mut prediction) = predict_basis(&coords, &popts)?;
     let mut rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &basis)?;
-    let mut pass = run_pass(rom.as_ref(), sopts, hopts, &plan, 0, on_point)?;
     let mut corrections = Vec::new();
+    // A basis too poor to converge at the first frequency has no reduced solution to
+    // regenerate from: enlarge gamma (uniting as below) while corrections remain.
+    let mut pass = loop {
+        match run_pass(rom.as_ref(), sopts, hopts, &plan, corrections.len(), on_point) {
+            Ok(p) => break p,
+            Err(e @ JpError::NoConvergence { .. }) => {
+                if corrections.len() >= aopts.max_corrections || popts.gamma >= aopts.max_gamma {
+                    return Err(e);
+                }
+                popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
+                let (fresh, r) = predict_basis(&coords, &popts)?;
+                basis = basis.union(&fresh, popts.gamma)?;
+                prediction = r;
+                rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &basis)?;
+                corrections.push(Correction {
+                    kind: CorrectionKind::GammaIncreased { gamma: popts.gamma },
+                    worst_error_before: f64::INFINITY,
+                    worst_error_after: f64::NAN,
+                    sizes: basis.sizes.clone(),
+                });
+            }
+            Err(e) => return Err(e),
+        }
+    };
+    if let Some(c) = corrections.last_mut() {
+        c.worst_error_after = pass.worst;
+    }
     let mut regenerate_next = true;
     while pass.worst > aopts.threshold && corrections.len() < aopts.max_corrections && pass.sweep.end != SweepEnd::StoppedByCaller {
         let before = pass.worst;
