@@ -60,7 +60,8 @@ pub enum CorrectionKind {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Correction {
     pub kind: CorrectionKind,
-    /// Worst `e*_1` over the sweep before and after.
+    /// Worst `e*_1` over the sweep before and after (before is infinite when the previous basis
+    /// did not converge at the first frequency of the band, so there was no sweep to judge).
     pub worst_error_before: f64,
     pub worst_error_after: f64,
     /// Basis sizes `n_h` after.
