@@ -165,7 +165,9 @@ typedef struct {
   size_t n_samples;
   // Eigenpairs kept outside the band as well, nearest first (default 0).
   size_t extra_outside;
-  // 1 (default): add the static-correction vectors to the JP modes; 0: eigenvectors only.
+  // 0 (default, as the prediction): eigenvectors only; 1: add the static-correction vectors
+  // `K_JC^-1 F` to the JP modes. Worth 1 for `jprom_basis_from_solution` (a basis of one
+  // Jacobian); in the prediction every contact state would add its own.
   int static_correction;
   // Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
   // exceeds this (default 0.05; must be > 0).
