@@ -163,7 +163,7 @@ typedef struct {
   double gamma;
   // Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
   size_t n_samples;
-  // Eigenpairs kept outside the band as well, nearest first (default 0).
+  // Eigenpairs kept outside the band as well, nearest first (default 2).
   size_t extra_outside;
   // 0 (default, as the prediction): eigenvectors only; 1: add the static-correction vectors
   // `K_JC^-1 F` to the JP modes. Worth 1 for `jprom_basis_from_solution` (a basis of one

@@ -185,8 +185,8 @@ fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
         let mut b = std::ptr::null_mut();
         ok(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b));
         assert_eq!(basis_sizes(b), basis.sizes);
-        // with the defaults otherwise, the same basis as jprom_basis_predict
-        jo.extra_outside = 0;
+        // with the defaults otherwise (extra_outside 2 is the default), the same basis as
+        // jprom_basis_predict
         let (mut b1, mut b2) = (std::ptr::null_mut(), std::ptr::null_mut());
         ok(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b1));
         ok(jprom_basis_predict(m, &opts, band.0, band.1, jo.gamma, jo.n_samples, &mut b2));

@@ -198,7 +198,7 @@ pub struct jprom_jp_options {
     pub gamma: f64,
     /// Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
     pub n_samples: usize,
-    /// Eigenpairs kept outside the band as well, nearest first (default 0).
+    /// Eigenpairs kept outside the band as well, nearest first (default 2).
     pub extra_outside: usize,
     /// 0 (default, as the prediction): eigenvectors only; 1: add the static-correction vectors
     /// `K_JC^-1 F` to the JP modes. Worth 1 for `jprom_basis_from_solution` (a basis of one
