@@ -236,8 +236,10 @@ pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) ->
     })
 }
 
-/// Checks `struct_size` and the floats of the C options.
-fn checked_jp_options(o: &jprom_jp_options) -> Result<&jprom_jp_options, FfiError> {
+/// The `jp_options` argument: not NULL, of this version's size, with finite and consistent
+/// values.
+unsafe fn jp_options_arg<'a>(p: *const jprom_jp_options) -> Result<&'a jprom_jp_options, FfiError> {
+    let o = p.as_ref().ok_or_else(|| FfiError::null("jp_options"))?;
     if o.struct_size != std::mem::size_of::<jprom_jp_options>() {
         return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_jp_options.struct_size: fill the options with jprom_jp_options_default"));
     }
@@ -287,7 +289,7 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
     ffi_guard!({
         let m = handle::get(model, "model")?;
         let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
-        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         let hopts = hbm_options(o)?;
         let band = band_arg(omega_lo, omega_hi)?;
@@ -319,7 +321,7 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
         let m = handle::get(model, "model")?;
         let sol = handle::get(solution, "solution")?;
         let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
-        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         if sol.origin == Origin::Reduced {
             return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
@@ -368,7 +370,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         let m = handle::get(model, "model")?;
         let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
         let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
-        let jo = checked_jp_options(jp_options.as_ref().ok_or_else(|| FfiError::null("jp_options"))?)?;
+        let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         let kind = rom_kind(kind)?;
         let hopts = hbm_options(o)?;
