@@ -6,14 +6,13 @@
 
 #[path = "support/native.rs"]
 mod native;
+mod jp_support;
 
-use faer::Mat;
 use jprom::condensation::CondensedSystem;
-use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use jprom::hbm::{sweep, HbmOptions, SweepOptions};
 use jprom::jp::PredictionOptions;
-use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use jprom::rom::{adaptive_sweep, AdaptiveOptions, RomKind};
+use jp_support::examples_model;
 use native::*;
 use std::ops::ControlFlow;
 
@@ -21,22 +20,7 @@ use std::ops::ControlFlow;
 /// |X1| node 0 x, |X1| node 1 x), then the rows of the self-correcting NLR sweep with the
 /// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1).
 fn rust_table() -> Vec<Vec<f64>> {
-    let n = 6;
-    let mut k = Mat::<f64>::zeros(n, n);
-    let mut m = Mat::<f64>::zeros(n, n);
-    for d in 0..3 {
-        m[(d, d)] = 1.0;
-        m[(3 + d, 3 + d)] = 1.0;
-        k[(d, d)] = 2.0e4;
-        k[(3 + d, 3 + d)] = 1.0e4;
-        k[(d, 3 + d)] = -1.0e4;
-        k[(3 + d, d)] = -1.0e4;
-    }
-    let mut fc = vec![0.0; n];
-    fc[0] = 5.0;
-    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: fc, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
-    let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
-    let model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap();
+    let model = examples_model();
     let opts = HbmOptions::with_harmonics(3);
     let sys = CondensedSystem::new(&model, &opts).unwrap();
     let res = sweep(&sys, &SweepOptions::band(60.0, 160.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();

@@ -56,13 +56,19 @@ fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
     }
 }
 
-#[test]
-fn adaptive_sweep_reports_corrections() {
+/// The chain at a slipping level, H = 1, and a band just around its first stuck mode.
+fn adaptive_case() -> (jprom::model::Model, HbmOptions, (f64, f64)) {
     let mut model = chain_model(&ChainOptions::default());
     model.excitation.dynamic_scale = 0.05;
     let hopts = HbmOptions::with_harmonics(1);
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let band = (0.97 * freqs[0], 1.01 * freqs[0]);
+    (model, hopts, band)
+}
+
+#[test]
+fn adaptive_sweep_reports_corrections() {
+    let (model, hopts, band) = adaptive_case();
     let pred = PredictionOptions::new(band);
     let sopts = SweepOptions::band(band.0, band.1);
     let out = adaptive_sweep(&model, &pred, &sopts, &hopts, &AdaptiveOptions::default()).unwrap();
@@ -78,11 +84,7 @@ fn adaptive_sweep_reports_corrections() {
 
 #[test]
 fn adaptive_sweep_with_progress_reports_every_point_and_stops_on_request() {
-    let mut model = chain_model(&ChainOptions::default());
-    model.excitation.dynamic_scale = 0.05;
-    let hopts = HbmOptions::with_harmonics(1);
-    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
-    let band = (0.97 * freqs[0], 1.01 * freqs[0]);
+    let (model, hopts, band) = adaptive_case();
     let pred = PredictionOptions::new(band);
     let sopts = SweepOptions::band(band.0, band.1);
     let aopts = AdaptiveOptions::default();
@@ -112,25 +114,7 @@ fn prediction_works_without_static_load() {
     // the C examples' model: a preloaded contact and no static force, so the static solution
     // is driven by the preload alone (its residual used to be scaled by the zero static load,
     // and never converged)
-    use faer::Mat;
-    use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
-    use jprom::model::{Damping, Excitation, HarmonicForce, Model};
-    let n = 6;
-    let mut k = Mat::<f64>::zeros(n, n);
-    let mut m = Mat::<f64>::zeros(n, n);
-    for d in 0..3 {
-        m[(d, d)] = 1.0;
-        m[(3 + d, 3 + d)] = 1.0;
-        k[(d, d)] = 2.0e4;
-        k[(3 + d, 3 + d)] = 1.0e4;
-        k[(d, 3 + d)] = -1.0e4;
-        k[(3 + d, d)] = -1.0e4;
-    }
-    let mut fc = vec![0.0; n];
-    fc[0] = 5.0;
-    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: fc, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
-    let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
-    let model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap();
+    let model = examples_model();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let mut p = PredictionOptions::new((60.0, 160.0));
     p.n_samples = 10;

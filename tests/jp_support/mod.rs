@@ -230,3 +230,25 @@ pub fn slipping_jacobian(coords: &ContactCoordinates, harmonics: usize, band: (f
     assert!(n_slip(&forces) > 0, "no contact slips up to {p:e} (factor {factor})");
     ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, harmonics, &forces, &w_at(p)).unwrap()
 }
+
+/// The model of the C, C++ and Fortran examples (examples-c/sweep_example.c): two nodes on
+/// springs, the second pressed on ground by a contact preload, no static force, a
+/// first-harmonic force on the first node.
+pub fn examples_model() -> Model {
+    let n = 6;
+    let mut k = Mat::<f64>::zeros(n, n);
+    let mut m = Mat::<f64>::zeros(n, n);
+    for d in 0..3 {
+        m[(d, d)] = 1.0;
+        m[(3 + d, 3 + d)] = 1.0;
+        k[(d, d)] = 2.0e4;
+        k[(3 + d, 3 + d)] = 1.0e4;
+        k[(d, 3 + d)] = -1.0e4;
+        k[(3 + d, d)] = -1.0e4;
+    }
+    let mut fc = vec![0.0; n];
+    fc[0] = 5.0;
+    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: fc, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+    let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
+    Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap()
+}
