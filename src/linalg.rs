@@ -146,3 +146,20 @@ pub fn symmetric_eigenpair_nearest(a: &Mat<f64>, target: f64, what: &str) -> Res
     }
     Ok((rayleigh, (0..n).map(|i| v[(i, 0)]).collect()))
 }
+
+/// Power-iteration estimate of the largest magnitude of `x -> apply(x)` on vectors of length
+/// `n` (`iterations` steps from a fixed, non-special start). Used to scale a shift-invert
+/// operator to about unit norm, so that an absolute Krylov tolerance becomes relative.
+pub(crate) fn operator_norm_estimate(n: usize, iterations: usize, apply: impl Fn(faer::MatMut<'_, f64>, faer::MatRef<'_, f64>)) -> f64 {
+    let mut v = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
+    let mut est = 0.0;
+    for _ in 0..iterations {
+        let nv = v.norm_l2();
+        v /= nv;
+        let mut w = Mat::zeros(n, 1);
+        apply(w.as_mut(), v.as_ref());
+        est = w.norm_l2();
+        v = w;
+    }
+    est
+}

@@ -219,16 +219,7 @@ pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> 
     } else {
         // Normalise the operator by its largest eigenvalue (power iteration estimate) so the
         // absolute Lanczos tolerance becomes relative.
-        let mut v = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
-        let mut est = 0.0;
-        for _ in 0..30 {
-            let nv = v.norm_l2();
-            v /= nv;
-            let mut w = Mat::zeros(n, 1);
-            op0.apply_to(w.as_mut(), v.as_ref());
-            est = w.norm_l2();
-            v = w;
-        }
+        let est = crate::linalg::operator_norm_estimate(n, 30, |w, v| op0.apply_to(w, v));
         if !(est.is_finite() && est > 0.0) {
             return Err(JpError::Eigen { what: format!("shift-invert operator norm estimate {est}") });
         }

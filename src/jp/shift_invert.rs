@@ -607,16 +607,7 @@ pub fn shift_invert_eigenpairs_with(
     // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
     // tolerance is relative.
     let op0 = Operator { solve: &solve, scale: 1.0 };
-    let mut v = Mat::from_fn(dim, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
-    let mut est = 0.0;
-    for _ in 0..20 {
-        let nv = v.norm_l2();
-        v /= nv;
-        let mut w = Mat::zeros(dim, 1);
-        op0.apply_to(w.as_mut(), v.as_ref());
-        est = w.norm_l2();
-        v = w;
-    }
+    let est = crate::linalg::operator_norm_estimate(dim, 20, |w, v| op0.apply_to(w, v));
     if !(est.is_finite() && est > 0.0) {
         return Err(JpError::Eigen { what: format!("shift-invert operator of (31): norm estimate {est}") });
     }
