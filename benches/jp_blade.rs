@@ -28,10 +28,6 @@ fn sweep_opts(band: (f64, f64)) -> SweepOptions {
     SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: POINTS, ..SweepOptions::band(band.0, band.1) }
 }
 
-fn tip_amp(p: &PointSolution) -> f64 {
-    tip(&p.outputs, p.n_outputs, 1).iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
 /// Timed sweep: (seconds, points, peak point).
 fn timed_sweep(sys: &dyn HarmonicSystem, band: (f64, f64), hopts: &HbmOptions) -> (f64, usize, Option<PointSolution>) {
     let t = Instant::now();
@@ -39,7 +35,7 @@ fn timed_sweep(sys: &dyn HarmonicSystem, band: (f64, f64), hopts: &HbmOptions) -
     let ts = t.elapsed().as_secs_f64();
     match r {
         Ok(r) => {
-            let peak = r.points.iter().max_by(|a, b| tip_amp(a).total_cmp(&tip_amp(b))).cloned();
+            let peak = r.points.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).cloned();
             (ts, r.points.len(), peak)
         }
         Err(e) => {

@@ -125,6 +125,11 @@ pub fn tip(outputs: &[f64], n_outputs: usize, h: usize) -> Vec<f64> {
     ks.iter().flat_map(|&k| TIP.map(move |j| outputs[k * n_outputs + j])).collect()
 }
 
+/// First-harmonic amplitude of the tip node (Euclidean over its 3 DoFs, cos and sin parts).
+pub fn tip_amplitude(p: &PointSolution) -> f64 {
+    tip(&p.outputs, p.n_outputs, 1).iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 /// Relative error of harmonic `h` at the tip node.
 pub fn tip_error(rom: &[f64], fo: &[f64], n_outputs: usize, h: usize) -> f64 {
     let (a, b) = (tip(rom, n_outputs, h), tip(fo, n_outputs, h));
@@ -138,8 +143,7 @@ pub fn tip_error(rom: &[f64], fo: &[f64], n_outputs: usize, h: usize) -> f64 {
 pub fn full_order_resonance(condensed: &CondensedSystem, hopts: &HbmOptions, band: (f64, f64), sopts: Option<SweepOptions>) -> (PointSolution, usize) {
     let sopts = sopts.unwrap_or(SweepOptions { max_step: 0.02, ..SweepOptions::band(band.0, band.1) });
     let sw = sweep(condensed, &sopts, hopts, &mut |_| ControlFlow::Continue(())).unwrap();
-    let amp = |p: &PointSolution| tip(&p.outputs, p.n_outputs, 1).iter().map(|x| x * x).sum::<f64>();
-    let peak = sw.points.iter().max_by(|a, b| amp(a).total_cmp(&amp(b))).unwrap().clone();
+    let peak = sw.points.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).unwrap().clone();
     let p = solve_point(condensed, peak.omega, Some(&peak.z), hopts).unwrap();
     (p, sw.points.len())
 }
