@@ -9,7 +9,7 @@ use blade_support::*;
 use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
-use jprom::hbm::{solve_point, sweep, HbmOptions, PointSolution, SweepOptions};
+use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;
 use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
@@ -63,7 +63,7 @@ fn main() {
     md += &head;
     let hopts = HbmOptions::with_harmonics(1);
     let plan = AftPlan::new(1, hopts.nt()).unwrap();
-    let header = "| alpha | gamma | n0 | n1 | patterns | build s | FR X0 | FR X1 | FR e*1 | FR e1 | NLR X0 | NLR X1 | NLR e*1 | NLR e1 | NLR energy |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let header = "| alpha | gamma | n0 | n1 | FR n1 | patterns | build s | FR X0 | FR X1 | FR e*1 | FR e1 | NLR X0 | NLR X1 | NLR e*1 | NLR e1 | NLR energy |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     print!("\n{header}");
     md += "\n## Predicted bases (stuck mode), errors at the FO resonance in band (tip node)\n\n";
     md += header;
@@ -90,8 +90,8 @@ fn main() {
                 poor_level = Some(div);
             }
             let line = format!(
-                "| a_ST/{div} | {gamma:.0e} | {} | {} | {} | {tb:.2} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |\n",
-                basis.sizes[0], basis.sizes[1], rep.n_patterns, row.fr.0, row.fr.1, row.fr.2, row.fr.3, row.nlr.0, row.nlr.1, row.nlr.2, row.nlr.3, row.energy
+                "| a_ST/{div} | {gamma:.0e} | {} | {} | {} | {} | {tb:.2} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |\n",
+                basis.sizes[0], basis.sizes[1], fr.layout().sizes[1], rep.n_patterns, row.fr.0, row.fr.1, row.fr.2, row.fr.3, row.nlr.0, row.nlr.1, row.nlr.2, row.nlr.3, row.energy
             );
             print!("{line}");
             md += &line;

@@ -7,19 +7,17 @@
 //! `alpha_ST / 10` (partial slip) and `alpha_ST / 3000` (gross slip).
 //!
 //! What the 0.1 % acceptance takes on this blade (measured; bases carry the static
-//! correction of `ModeOptions::static_correction`):
-//! - X1 at the tip, in-band modes + the 4 nearest: FR 7.6e-4 / 6.0e-4 and NLR 4.2e-5 / 2.9e-5
-//!   at alpha_ST / 10 / 3000 (without the static correction FR was 8.9e-3 at gross slip).
+//! correction of `ModeOptions::static_correction`; FR is `FrRom::new`, whose linear-DoF rows
+//! follow the contact rows by condensation over the band, `rom::band_condensed_basis`):
+//! - X1 at the tip, in-band modes + the 4 nearest: FR and NLR 4.2e-5 / 2.9e-5 at alpha_ST / 10
+//!   / 3000 (FR with the JP modes' own rows, the paper's FR: 7.6e-4 / 6.0e-4).
 //! - X0 at the tip is a different quantity: the pressing load is a couple on the shroud, so the
-//!   static tip displacement is small and, across the tip's flap direction, set by the mean
-//!   tangential forces of slipping contacts (6.7e-5 mm against 0.09 mm for X1 at gross slip).
-//!   Those means follow the contact motion in detail, so X0 needs richer bases: with + 20
-//!   modes FR 1.6e-4 and NLR 8.2e-5 at alpha_ST / 10, NLR 9.2e-5 at alpha_ST / 3000; FR at
-//!   gross slip stays at 1-10 % even with 60 extra modes (X1 1e-6 there), which is the one
-//!   known gap. Adding the whole static contact flexibility `A_0^-1 [I_w; 0]` to `Φ_0` does not
-//!   change it (measured): the error is in the mean contact forces, not in the static span
-//!   (FR + 20 at gross slip: static contact forces within e_0 = 7e-5, X1 within 7e-6, and
-//!   still 10 % on the tangential mean they leave at the tip).
+//!   static tip displacement across the flap direction is set by the mean tangential forces of
+//!   the slipping contacts (6.7e-5 mm against 0.09 mm for X1 at gross slip), and those follow
+//!   the small normal motion of the contacts. It needs in-band + 20 modes: FR and NLR 8.2e-5
+//!   at alpha_ST / 10 and 9.2e-5 at alpha_ST / 3000 (n_1 = 65 and 60 for FR, 48 and 43 for
+//!   NLR). The paper's FR on the same basis stays at 10 % at gross slip (X1 7e-6 there): its
+//!   Galerkin projection distorts that small normal motion, which the band-condensed rows fix.
 
 #[path = "blade_support/mod.rs"]
 mod blade_support;
@@ -29,7 +27,7 @@ use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
-use jprom::hbm::{solve_point, HbmOptions, PointSolution, SweepOptions};
+use jprom::hbm::{solve_point, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{predict_basis, BasisOptions, ContactJacobian, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
 use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
@@ -88,6 +86,8 @@ fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outc
             assert!(o.e_star + 1e-9 >= o.e, "{name}: e*_1 {:.3e} < e_1 {:.3e}", o.e_star, o.e);
             o
         };
+        // The paper's FR (JP modes' own linear-DoF rows), for comparison only.
+        run(&FrRom::with_jp_rows(&coords, &basis).unwrap(), "FR (JP rows)");
         out.push((run(&fr, "FR"), run(&nlr, "NLR")));
     }
     out
@@ -143,12 +143,11 @@ fn own_jacobian_basis_gross_slip() {
     let (fr, nlr) = &r[0];
     assert!(fr.x1 < 1e-3 && nlr.x1 < 1e-3, "X1: FR {:.2e} NLR {:.2e}", fr.x1, nlr.x1);
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL, "energy FR {:.2e} NLR {:.2e}", fr.energy, nlr.energy);
+    // In-band + 20: the static term too, FR (band-condensed rows) and NLR.
     let (fr, nlr) = &r[1];
-    assert!(nlr.x0 < 1e-3 && nlr.x1 < 1e-3, "NLR X0 {:.2e} X1 {:.2e}", nlr.x0, nlr.x1);
-    assert!(fr.x1 < 1e-3, "FR X1 {:.2e}", fr.x1);
-    // Known gap (module doc): FR's static term at gross slip, a mean-friction quantity 1/1000
-    // of X1, stays near 10 % (1-2 % with 30-60 extra modes); guard the measured level.
-    assert!(fr.x0 < 0.2, "FR X0 {:.2e}", fr.x0);
+    for (what, e) in [("FR X0", fr.x0), ("FR X1", fr.x1), ("NLR X0", nlr.x0), ("NLR X1", nlr.x1)] {
+        assert!(e < 1e-3, "{what} {e:.2e} >= 0.1 %");
+    }
 }
 
 #[test]
@@ -174,6 +173,7 @@ fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64
     let (basis, _) = predict_basis(&coords, &popts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let nlr = NlrRom::new(&cond, &basis).unwrap();
+    let fr_sizes = fr.layout().sizes.clone();
     let eval = |rom: &dyn ReducedModel| -> (f64, f64, f64) {
         let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
         let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
@@ -182,7 +182,7 @@ fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64
     };
     let (fx, fes, fe) = eval(&fr);
     let (nx, nes, ne) = eval(&nlr);
-    println!("alpha_ST/{div} gamma {gamma:.0e} sizes {:?}: FR X1 {fx:.2e} e*_1 {fes:.2e} e_1 {fe:.2e} | NLR X1 {nx:.2e} e*_1 {nes:.2e} e_1 {ne:.2e}", basis.sizes);
+    println!("alpha_ST/{div} gamma {gamma:.0e} sizes {:?} (FR {fr_sizes:?}): FR X1 {fx:.2e} e*_1 {fes:.2e} e_1 {fe:.2e} | NLR X1 {nx:.2e} e*_1 {nes:.2e} e_1 {ne:.2e}", basis.sizes);
     (basis.sizes[0], basis.sizes[1], fx, nx, fes, fe, nes, ne)
 }
 

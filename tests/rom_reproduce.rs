@@ -27,7 +27,9 @@ fn full_order(model: &Model, hopts: &HbmOptions, omega: f64) -> PointSolution {
 }
 
 struct Case {
-    errors: Vec<(f64, f64, f64, f64)>, // (FR e0, FR e1, NLR e0, NLR e1) per extra setting
+    /// Per extra setting: (X0, X1) errors of FR (band-condensed rows, `FrRom::new`), FR with
+    /// the JP modes' own rows (the paper's, `FrRom::with_jp_rows`) and NLR.
+    errors: Vec<[(f64, f64); 3]>,
 }
 
 fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
@@ -50,22 +52,23 @@ fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
         let opts = BasisOptions { modes: ModeOptions { band, extra_outside: extra, static_correction: true, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e10 };
         let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
         let fr = FrRom::new(&coords, &basis).unwrap();
+        let fr_jp = FrRom::with_jp_rows(&coords, &basis).unwrap();
         let nlr = NlrRom::new(&condensed, &basis).unwrap();
         let mut row = Vec::new();
-        for rom in [&fr as &dyn ReducedModel, &nlr as &dyn ReducedModel] {
+        for rom in [&fr as &dyn ReducedModel, &fr_jp, &nlr] {
             let s = solve_point(rom, omega, None, &hopts).unwrap();
-            row.push(output_error(&s.outputs, &fo.outputs, fo.n_outputs, 0));
-            row.push(output_error(&s.outputs, &fo.outputs, fo.n_outputs, 1));
+            row.push((output_error(&s.outputs, &fo.outputs, fo.n_outputs, 0), output_error(&s.outputs, &fo.outputs, fo.n_outputs, 1)));
             let es = predicted_error(rom, &plan, omega, &s.z).unwrap();
             let ea = actual_error(rom, &plan, omega, &s.z, &fo).unwrap();
-            // Conservative predictor (with a round-off allowance for exact bases).
-            assert!(es[1] + 1e-9 >= ea[1], "H={harmonics} scale={scale} extra={extra}: e*_1 {} < e_1 {}", es[1], ea[1]);
+            // Conservative predictor (with a round-off allowance for exact bases, and none
+            // asked below the full-order solution's own accuracy).
+            assert!(es[1] + 1e-9 >= ea[1] || ea[1] < FO_ACCURACY, "H={harmonics} scale={scale} extra={extra}: e*_1 {} < e_1 {}", es[1], ea[1]);
             println!(
                 "H={harmonics} scale={scale} extra={extra} sizes {:?}: X0 err {:.2e} X1 err {:.2e} e*_1 {:.2e} e_1 {:.2e}",
-                rom.layout().sizes, row[row.len() - 2], row[row.len() - 1], es[1], ea[1]
+                rom.layout().sizes, row[row.len() - 1].0, row[row.len() - 1].1, es[1], ea[1]
             );
         }
-        errors.push((row[0], row[1], row[2], row[3]));
+        errors.push([row[0], row[1], row[2]]);
     }
     Case { errors }
 }
@@ -74,13 +77,13 @@ fn check(harmonics: usize, scale: f64) {
     let n_dof = 24;
     let all = 2 * harmonics * n_dof; // every eigenpair of (31): a complete basis
     let case = run(harmonics, scale, &[0, 12, all]);
-    let (fr0, fr1, nl0, nl1) = case.errors[2];
-    for (what, e) in [("FR static", fr0), ("FR first harmonic", fr1), ("NLR static", nl0), ("NLR first harmonic", nl1)] {
-        assert!(e < 1e-3, "H={harmonics} scale={scale}: {what} error {e:.3e} >= 0.1 %");
+    for (rom, (e0, e1)) in ["FR", "FR (JP rows)", "NLR"].iter().zip(case.errors[2]) {
+        assert!(e0 < 1e-3 && e1 < 1e-3, "H={harmonics} scale={scale}: {rom} X0 {e0:.3e} X1 {e1:.3e}, not within 0.1 %");
     }
-    // Fewer modes, larger error (first harmonic; FR and NLR).
-    assert!(case.errors[1].1 <= case.errors[0].1 * 1.0001);
-    assert!(case.errors[1].3 <= case.errors[0].3 * 1.0001);
+    // Fewer modes, larger error (first harmonic).
+    for k in 0..3 {
+        assert!(case.errors[1][k].1 <= case.errors[0][k].1 * 1.0001);
+    }
 }
 
 #[test]

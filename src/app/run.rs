@@ -65,7 +65,8 @@ pub struct BasisStudyRow {
     pub level: f64,
     pub solver: String,
     pub gamma: f64,
-    /// `n_0, n_1, ...`.
+    /// Reduced unknowns per harmonic `n_0, n_1, ...` of the ROM (for FR on a band-condensed
+    /// basis about twice the JP basis' `n_1`, see [`FrRom::new`]).
     pub sizes: Vec<usize>,
     /// Relative errors of `X1`, `X0` at the first output (`None`: the ROM did not converge).
     pub error_x1: Option<f64>,
@@ -125,7 +126,7 @@ fn gamma_study(
                 RomKind::Fr => Box::new(FrRom::new(coords, &basis)?),
                 RomKind::Nlr => Box::new(NlrRom::new(condensed, &basis)?),
             };
-            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: basis.sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
+            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
             if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
                 row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
                 row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
@@ -512,7 +513,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             let mut row = SolverRow {
                 level,
                 solver: name.to_string(),
-                sizes: basis.sizes.clone(),
+                sizes: rom.layout().sizes.clone(),
                 points: res.points.len(),
                 sweep_seconds: secs,
                 basis_seconds,

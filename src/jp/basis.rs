@@ -41,6 +41,12 @@ pub struct JpBasis {
     pub n_w: usize,
     /// Singular values of the raw stacked modes per harmonic (for choosing `gamma`).
     pub singular_values: Vec<Vec<f64>>,
+    /// Analysis band `[omega_lo, omega_hi]` (rad/s) the JP modes were selected in, when known
+    /// (set by [`JpBasis::from_jacobian`], [`JpBasis::from_solution`] and
+    /// [`super::predict_basis`]; `None` for [`JpBasis::from_raw`] and for files saved before
+    /// it existed). [`crate::rom::FrRom::new`] condenses its linear-DoF rows over this band.
+    #[serde(default)]
+    pub band: Option<(f64, f64)>,
 }
 
 impl JpBasis {
@@ -69,7 +75,7 @@ impl JpBasis {
             singular_values.push(c.singular_values);
         }
         let sizes = phi.iter().map(|p| p.ncols()).collect();
-        Ok(JpBasis { phi, sizes, gamma, n_patterns, n_dof: n, n_w, singular_values })
+        Ok(JpBasis { phi, sizes, gamma, n_patterns, n_dof: n, n_w, singular_values, band: None })
     }
 
     /// The basis of one set of boundary conditions (e.g. a full-order solution's own `K̂`).
@@ -78,7 +84,7 @@ impl JpBasis {
     /// As [`jp_modes`] and [`condition`].
     pub fn from_jacobian(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &BasisOptions) -> Result<Self> {
         let modes = jp_modes(coords, k_hat, &opts.modes)?;
-        Self::from_raw(&modes.phi, opts.gamma, 1, coords.n_w)
+        Ok(Self::from_raw(&modes.phi, opts.gamma, 1, coords.n_w)?.with_band(opts.modes.band))
     }
 
     /// The basis of a full-order solution's own boundary conditions: the contact displacement
@@ -170,7 +176,16 @@ impl JpBasis {
                 m
             })
             .collect();
-        Self::from_raw(&raw, gamma, self.n_patterns + other.n_patterns, self.n_w)
+        let band = match (self.band, other.band) {
+            (Some(a), Some(b)) => Some((a.0.min(b.0), a.1.max(b.1))),
+            (a, b) => a.or(b),
+        };
+        Ok(JpBasis { band, ..Self::from_raw(&raw, gamma, self.n_patterns + other.n_patterns, self.n_w)? })
+    }
+
+    /// The basis with its analysis band set (see [`JpBasis::band`]).
+    pub fn with_band(self, band: (f64, f64)) -> Self {
+        JpBasis { band: Some(band), ..self }
     }
 
     /// Total number of reduced unknowns `n_0 + 2 sum_h n_h`.

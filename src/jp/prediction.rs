@@ -344,7 +344,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         }
     }
     let modes: Vec<JpModes> = chosen.par_iter().map(|(_, kj)| jp_modes(coords, kj, &opts.modes)).collect::<Result<_>>()?;
-    let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?;
+    let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?.with_band(opts.modes.band);
     let report = PredictionReport {
         omega_stuck,
         p_min,

@@ -10,7 +10,7 @@ pub mod fr;
 pub mod nlr;
 
 pub use adaptive::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionKind, RomKind};
-pub use fr::FrRom;
+pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
 
 use crate::error::Result;
