@@ -15,7 +15,7 @@
 //!   static tip displacement across the flap direction is set by the mean tangential forces of
 //!   the slipping contacts (6.7e-5 mm against 0.09 mm for X1 at gross slip), and those follow
 //!   the small normal motion of the contacts. It needs in-band + 20 modes: FR and NLR 8.2e-5
-//!   at alpha_ST / 10 and 9.2e-5 at alpha_ST / 3000 (n_1 = 65 and 60 for FR, 48 and 43 for
+//!   at alpha_ST / 10 and 9.2e-5 at alpha_ST / 3000 (n_1 = 60 and 55 for FR, 48 and 43 for
 //!   NLR). The paper's FR on the same basis stays at 10 % at gross slip (X1 7e-6 there): its
 //!   Galerkin projection distorts that small normal motion, which the band-condensed rows fix.
 
@@ -240,4 +240,23 @@ fn poor_generating_shape_is_flagged_and_corrected() {
     println!("final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.0, first.1));
     assert!(x1 < 1e-2, "X1 error after correction {x1:.2e}");
     assert!(out.basis.sizes[1] <= 2 * first.1, "similar size: n_1 {} from {}", out.basis.sizes[1], first.1);
+}
+
+/// FR's band-condensed rows at H = 3 keep the reduced system smooth enough to continue: a
+/// predicted basis at alpha_ST / 10 sweeps on from the band start (with the condensation
+/// directions kept down to 1e-10 the sweep stopped after its first point, `StepTooSmall`).
+#[test]
+fn band_condensed_fr_sweeps_at_h3() {
+    let b = blade();
+    let model = b.at_level(b.alpha_st / 10.0);
+    let hopts = HbmOptions::with_harmonics(3);
+    let coords = ContactCoordinates::new(&model, 3).unwrap();
+    let mut popts = PredictionOptions::new(b.band);
+    popts.harmonics = 3;
+    let (basis, _) = predict_basis(&coords, &popts).unwrap();
+    let fr = FrRom::new(&coords, &basis).unwrap();
+    let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: 30, ..SweepOptions::band(b.band.0, b.band.1) };
+    let sw = jprom::hbm::sweep(&fr, &sopts, &hopts, &mut |_| std::ops::ControlFlow::Continue(())).unwrap();
+    println!("H=3 FR sizes {:?}: {} points, end {:?}", fr.layout().sizes, sw.points.len(), sw.end);
+    assert_eq!(sw.points.len(), 30, "end {:?}", sw.end);
 }

@@ -59,7 +59,7 @@ impl FrRom {
     /// analysis band ([`JpBasis::band`], set by every JP constructor), the linear-DoF rows are
     /// those of [`band_condensed_basis`] over that band: NLR's accuracy at FR's cost, for about
     /// twice the first-harmonic size (blade, alpha_ST / 3000: X0 at the tip 10 % -> 9e-5,
-    /// X1 7e-6 -> 6e-8; tests/jp_blade.rs). Without a band, as [`FrRom::with_jp_rows`].
+    /// X1 7e-6 -> 3.5e-7; tests/jp_blade.rs). Without a band, as [`FrRom::with_jp_rows`].
     ///
     /// # Errors
     /// As [`FrRom::with_jp_rows`] and [`band_condensed_basis`].
@@ -326,9 +326,12 @@ impl ReducedModel for FrRom {
 }
 
 /// Singular-value ratio below which [`band_condensed_basis`] treats columns as dependent: a
-/// round-off floor, not a `gamma` (the condensation columns at the two band edges differ by
-/// little, and that little is what they add).
-const BAND_CONDENSED_RATIO: f64 = 1e10;
+/// floor at the accuracy of the `D_yy` solves, not a `gamma`. The columns at the two band
+/// edges differ by little, and that little is what they add at `h = 1` (near the resonance
+/// the condensation varies across the band). At `h >= 2` it is often no more than the
+/// solves' round-off: kept with a 1e10 floor, those noise directions stopped a blade H = 3
+/// sweep after its first point (1e8: 200 points; X1 at gross slip 3.5e-7 against 6e-8).
+const BAND_CONDENSED_RATIO: f64 = 1e8;
 
 /// The FR basis whose linear-DoF rows follow its contact rows by dynamic condensation.
 ///
