@@ -257,7 +257,7 @@ impl BladePair {
         // Scale the pre-twists to the target mean normal force in the linear stuck state.
         let u = pair.stuck_static_displacement()?;
         let (forces, _) = pair.stuck_contact_forces(&u);
-        if forces.iter().any(|&f| !(f > 0.0)) {
+        if forces.iter().any(|&f| f.is_nan() || f <= 0.0) {
             return Err(JpError::invalid(
                 "blade pair geometry",
                 format!("pre-twists do not press every interface (normal forces {:.3e}, {:.3e}, {:.3e})", forces[0], forces[1], forces[2]),
