@@ -31,11 +31,12 @@
 //! A's `f_E^1` on blade A and, on blade B, `r f_E^1 cos(omega t - phi)` (`r` =
 //! [`PairParams::forcing_ratio`], `phi` = [`PairParams::phase_lag`]): a travelling-wave
 //! (engine-order) excitation lags by the inter-blade phase angle from blade to blade; `r = 0`
-//! excites blade A only. (Identical blades forced in phase hardly move their interface.)
+//! excites blade A only.
 //!
 //! Modes (default blade, CB(50), stuck springs): 1431 Hz, an in-phase edgewise-flap mode of
 //! both blades whose chordwise motion is normal to the shroud faces (it opens and closes the
-//! contacts, with separation as soon as anything slips); 2057 Hz, the anti-phase flap mode, the
+//! contacts: 20 of the 27 contacts separate at its resonance at `alpha_ST / 10`, and the
+//! continuation needs 1000-2000 points); 2057 Hz, the anti-phase flap mode, the
 //! pair's counterpart of the single blade's stuck first bending (2165 Hz), which slides the
 //! interface tangentially; 2186 Hz, in-phase edgewise. The default forcing (anti-phase,
 //! `phi = pi`) drives the 2057 Hz mode. Free contacts: two free blades, every frequency twice.
