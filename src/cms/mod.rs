@@ -1,4 +1,5 @@
-//! Component mode synthesis: the built-in shrouded-blade benchmark ([`blade`]), its linear
+//! Component mode synthesis: the built-in shrouded-blade benchmark ([`blade`]) and its
+//! two-blade shroud-coupled variant with node-pair contacts ([`blade_pair`]), its linear
 //! hexahedral element ([`hex8`]), a sparse shift-invert Lanczos eigen solver ([`eigen`]) and the
 //! sparse Craig-Bampton reduction ([`craig_bampton`]) that turns a large sparse FE model into a
 //! normal dense [`crate::model::Model`].
@@ -16,10 +17,12 @@
 
 pub mod hex8;
 pub mod blade;
+pub mod blade_pair;
 pub mod eigen;
 pub mod craig_bampton;
 
 pub use blade::{BladeFe, BladeParams, BuiltinBlade, CbModel, ContactNode};
+pub use blade_pair::{BladePair, PairParams, PairSite};
 pub use craig_bampton::{CbOptions, CraigBampton};
 pub use eigen::{lowest_modes, SparseCholesky, SparseEigen};
 
