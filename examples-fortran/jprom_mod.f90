@@ -343,7 +343,7 @@ contains
                                                                    int(size(coeffs), c_size_t)), message)
   end function
   !> Defaults of the JP basis and self-correcting sweep settings (gamma 1e3, 100 samples,
-  !> threshold 0.05 on e*_1, at most 3 corrections, ...).
+  !> threshold 0.05 on e*_1, at most 5 corrections, ...).
   subroutine jp_default_jp_options(jp_opts)
     use jprom_c, only: jprom_jp_options_default
     type(jprom_jp_options), intent(out) :: jp_opts

@@ -172,7 +172,7 @@ typedef struct {
   // Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
   // exceeds this (default 0.05; must be > 0).
   double threshold;
-  // Most corrections (default 3; 0 = predict and sweep once).
+  // Most corrections (default 5; 0 = predict and sweep once).
   size_t max_corrections;
   // Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
   // (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).

@@ -260,3 +260,33 @@ fn band_condensed_fr_sweeps_at_h3() {
     println!("H=3 FR sizes {:?}: {} points, end {:?}", fr.layout().sizes, sw.points.len(), sw.end);
     assert_eq!(sw.points.len(), 30, "end {:?}", sw.end);
 }
+
+/// Acceptance 3 at gross slip (alpha_ST / 3000): the stuck-mode basis is flagged (e*_1 far above
+/// 0.05) and the self-correcting sweep brings the worst e*_1 over the band below 0.05 and X1 at
+/// the FO resonance below 1 %. Measured: 3 regenerations (5.2 -> 0.22 -> 0.077, then a third one
+/// that raised it to 0.12 and was dropped), then gamma 1e4: 0.026, sizes [52, 31], X1 6.5e-6.
+/// The result is the best basis found: its worst e*_1 is the smallest of all passes.
+#[test]
+fn gross_slip_is_flagged_and_corrected() {
+    let b = blade();
+    let div = 3000.0;
+    let fo = fo_resonance(div);
+    let first = predicted_row(div, 1e3, &fo);
+    assert!(first.6 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.6);
+    let model = b.at_level(b.alpha_st / div);
+    let hopts = HbmOptions::with_harmonics(1);
+    let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(b.band.0, b.band.1) };
+    let out = adaptive_sweep(&model, &PredictionOptions::new(b.band), &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    for c in &out.corrections {
+        println!("{:?}: {:.2e} -> {:.2e} {:?}", c.kind, c.worst_error_before, c.worst_error_after, c.sizes);
+    }
+    let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
+    assert!(worst <= 0.05, "worst e*_1 after correction {worst:.2e}");
+    let best = out.corrections.iter().map(|c| c.worst_error_after).fold(f64::INFINITY, f64::min);
+    assert!((worst - best).abs() <= 1e-12 * best, "kept {worst:.3e}, best pass {best:.3e}");
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let s = solve_point(&NlrRom::new(&cond, &out.basis).unwrap(), fo.omega, None, &hopts).unwrap();
+    let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
+    println!("final sizes {:?}, X1 error {x1:.2e}", out.basis.sizes);
+    assert!(x1 < 1e-2, "X1 error after correction {x1:.2e}");
+}

@@ -24,7 +24,7 @@
 //! gamma = 1000.0
 //! samples = 100
 //! error_threshold = 0.05
-//! max_corrections = 3
+//! max_corrections = 5
 //!
 //! [solvers]
 //! full_order = true
@@ -447,7 +447,7 @@ pub struct BasisSpec {
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 3, extra_modes: 2, gamma_study: Vec::new() }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, extra_modes: 2, gamma_study: Vec::new() }
     }
 }
 

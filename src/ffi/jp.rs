@@ -207,7 +207,7 @@ pub struct jprom_jp_options {
     /// Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
     /// exceeds this (default 0.05; must be > 0).
     pub threshold: f64,
-    /// Most corrections (default 3; 0 = predict and sweep once).
+    /// Most corrections (default 5; 0 = predict and sweep once).
     pub max_corrections: usize,
     /// Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
     /// (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
