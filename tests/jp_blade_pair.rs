@@ -51,13 +51,13 @@
 mod blade_support;
 
 use blade_support::*;
-use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
+use jprom::aft::AftPlan;
 use jprom::cms::{BladePair, BladeParams, PairParams, PairSite};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
-use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
+use jprom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, HbmOptions, PointSolution, SweepOptions};
-use jprom::jp::{predict_basis, BasisOptions, ContactJacobian, JpBasis, ModeOptions, PredictionOptions};
+use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::{ContactCoordinates, Damping, Model};
 use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use faer::linalg::solvers::Solve;
@@ -132,20 +132,10 @@ fn fo_resonance(model: &Model, harmonics: usize) -> (CondensedSystem, PointSolut
     (cond, fo)
 }
 
-struct Outcome {
-    x0: f64,
-    x1: f64,
-    e_star: f64,
-    e: f64,
-    energy: f64,
-}
-
-/// Bases from the FO solution's own `K̂` (in-band modes plus `extra` nearest ones, with the
-/// static correction), FR and NLR solved at the FO resonance frequency.
+/// Own-Jacobian bases at `alpha_ST / div` ([`own_jacobian_outcomes`]).
 fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outcome)> {
     let p = pair();
     let model = p.at_level(p.alpha_st / div);
-    let hopts = HbmOptions::with_harmonics(harmonics);
     let computed;
     let (cond, fo) = if harmonics == 1 && div == 10.0 {
         let c = fo_partial_slip();
@@ -154,48 +144,7 @@ fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outc
         computed = fo_resonance(&model, harmonics);
         (&computed.0, &computed.1)
     };
-    let coords = ContactCoordinates::new(&model, harmonics).unwrap();
-    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
-    let w = full_order_contact_displacement(fo, coords.n_w).unwrap();
-    let mut forces = ContactForces::default();
-    evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
-    let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
-    let mut out = Vec::new();
-    for &extra in extras {
-        let opts = BasisOptions { modes: ModeOptions { extra_outside: extra, ..ModeOptions::in_band(p.band) }, gamma: 1e10 };
-        let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
-        let fr = FrRom::new(&coords, &basis).unwrap();
-        let nlr = NlrRom::new(cond, &basis).unwrap();
-        let run = |rom: &dyn ReducedModel, name: &str| -> Outcome {
-            let t = Instant::now();
-            let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-            let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-            let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
-            let o = Outcome {
-                x0: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0),
-                x1: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
-                e_star: es[1],
-                e: ea[1],
-                energy: energy_error(rom, &s, fo, &plan),
-            };
-            println!(
-                "H={harmonics} alpha_ST/{div} extra {extra} {name} sizes {:?}: X0 {:.2e} X1 {:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e} ({:?})",
-                rom.layout().sizes, o.x0, o.x1, o.e_star, o.e, o.energy, t.elapsed()
-            );
-            assert!(o.e_star + 1e-9 >= o.e, "{name}: e*_1 {:.3e} < e_1 {:.3e}", o.e_star, o.e);
-            o
-        };
-        out.push((run(&fr, "FR"), run(&nlr, "NLR")));
-    }
-    out
-}
-
-/// Largest per-contact difference of the energy dissipated per cycle, over the largest FO
-/// contact energy.
-fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution, plan: &AftPlan) -> f64 {
-    let cy = reduced_contact_cycles(rom, plan, s.omega, &s.z).unwrap();
-    let wmax = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
-    cy.iter().zip(&fo.contact_cycles).map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs()).fold(0.0, f64::max) / wmax
+    own_jacobian_outcomes(&model, cond, fo, p.band, extras, &format!("H={harmonics} alpha_ST/{div}"))
 }
 
 fn assert_below(what: &str, values: &[(&str, f64)], tol: f64) {

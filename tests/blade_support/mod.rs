@@ -4,10 +4,14 @@
 //! full-order (condensed) solution at resonance.
 #![allow(dead_code)]
 
+use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
 use jprom::cms::{BladeParams, BuiltinBlade};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactLaw;
+use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, sweep, HbmOptions, PointSolution, SweepOptions};
+use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
+use jprom::rom::{FrRom, NlrRom, ReducedModel};
 use jprom::model::{ContactCoordinates, Damping, Model};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -146,4 +150,67 @@ pub fn full_order_resonance(condensed: &CondensedSystem, hopts: &HbmOptions, ban
     let peak = sw.points.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).unwrap().clone();
     let p = solve_point(condensed, peak.omega, Some(&peak.z), hopts).unwrap();
     (p, sw.points.len())
+}
+
+/// Errors of one reduced solution against the full-order one (tip node of the first blade).
+pub struct Outcome {
+    pub x0: f64,
+    pub x1: f64,
+    pub e_star: f64,
+    pub e: f64,
+    /// [`energy_error`].
+    pub energy: f64,
+}
+
+/// Largest per-contact difference of the energy dissipated per cycle, over the largest FO
+/// contact energy.
+pub fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution, plan: &AftPlan) -> f64 {
+    let cy = reduced_contact_cycles(rom, plan, s.omega, &s.z).unwrap();
+    let wmax = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
+    cy.iter().zip(&fo.contact_cycles).map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs()).fold(0.0, f64::max) / wmax
+}
+
+/// Bases from the full-order solution `fo`'s own `K̂` (in-band modes of `band` plus each of
+/// `extras` nearest ones, static correction, gamma 1e10): FR (`FrRom::new`, band-condensed
+/// rows) and NLR solved at `fo.omega`, with `e*_1 >= e_1` asserted; the paper's FR
+/// (`FrRom::with_jp_rows`) is solved and printed for comparison. `label` prefixes the lines.
+pub fn own_jacobian_outcomes(model: &Model, cond: &CondensedSystem, fo: &PointSolution, band: (f64, f64), extras: &[usize], label: &str) -> Vec<(Outcome, Outcome)> {
+    let harmonics = fo.layout.harmonics;
+    let hopts = HbmOptions::with_harmonics(harmonics);
+    let coords = ContactCoordinates::new(model, harmonics).unwrap();
+    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
+    let w = full_order_contact_displacement(fo, coords.n_w).unwrap();
+    let mut forces = ContactForces::default();
+    evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
+    let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
+    let mut out = Vec::new();
+    for &extra in extras {
+        let opts = BasisOptions { modes: ModeOptions { extra_outside: extra, ..ModeOptions::in_band(band) }, gamma: 1e10 };
+        let basis = JpBasis::from_jacobian(&coords, &k_hat, &opts).unwrap();
+        let run = |rom: &dyn ReducedModel, name: &str| -> Outcome {
+            let t = std::time::Instant::now();
+            let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
+            let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
+            let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+            let o = Outcome {
+                x0: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0),
+                x1: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
+                e_star: es[1],
+                e: ea[1],
+                energy: energy_error(rom, &s, fo, &plan),
+            };
+            println!(
+                "{label} extra {extra} {name} sizes {:?}: X0 {:.2e} X1 {:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e} ({:?})",
+                rom.layout().sizes, o.x0, o.x1, o.e_star, o.e, o.energy, t.elapsed()
+            );
+            // The predictor is conservative (round-off allowance for exact bases).
+            assert!(o.e_star + 1e-9 >= o.e, "{name}: e*_1 {:.3e} < e_1 {:.3e}", o.e_star, o.e);
+            o
+        };
+        run(&FrRom::with_jp_rows(&coords, &basis).unwrap(), "FR (JP rows)");
+        let fr = run(&FrRom::new(&coords, &basis).unwrap(), "FR");
+        let nlr = run(&NlrRom::new(cond, &basis).unwrap(), "NLR");
+        out.push((fr, nlr));
+    }
+    out
 }
