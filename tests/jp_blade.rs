@@ -106,9 +106,18 @@ fn own_jacobian_basis_partial_slip_h3() {
     assert!(fr.energy < ENERGY_TOL && nlr.energy < ENERGY_TOL);
 }
 
-/// Errors of a predicted basis at the FO resonance: (n_0, n_1, FR X1, NLR X1, FR e*_1, FR e_1,
-/// NLR e*_1, NLR e_1).
-fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64, f64, f64, f64, f64, f64) {
+/// A predicted basis' sizes and its FR and NLR first-harmonic errors at the FO resonance.
+#[derive(Debug)]
+struct PredictedRow {
+    /// JP basis sizes `n_0`, `n_1` (FR's own first-harmonic size is about twice `n_1`).
+    n0: usize,
+    n1: usize,
+    /// Tip X1 error, `e*_1` and `e_1` of FR and NLR.
+    fr: (f64, f64, f64),
+    nlr: (f64, f64, f64),
+}
+
+fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> PredictedRow {
     let b = blade();
     let model = b.at_level(b.alpha_st / div);
     let hopts = HbmOptions::with_harmonics(1);
@@ -128,10 +137,10 @@ fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> (usize, usize, f64
         let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
         (tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1), es[1], ea[1])
     };
-    let (fx, fes, fe) = eval(&fr);
-    let (nx, nes, ne) = eval(&nlr);
+    let row = PredictedRow { n0: basis.sizes[0], n1: basis.sizes[1], fr: eval(&fr), nlr: eval(&nlr) };
+    let ((fx, fes, fe), (nx, nes, ne)) = (row.fr, row.nlr);
     println!("alpha_ST/{div} gamma {gamma:.0e} sizes {:?} (FR {fr_sizes:?}): FR X1 {fx:.2e} e*_1 {fes:.2e} e_1 {fe:.2e} | NLR X1 {nx:.2e} e*_1 {nes:.2e} e_1 {ne:.2e}", basis.sizes);
-    (basis.sizes[0], basis.sizes[1], fx, nx, fes, fe, nes, ne)
+    row
 }
 
 fn fo_resonance(div: f64) -> PointSolution {
@@ -149,27 +158,27 @@ fn predicted_bases_error_falls_with_size_and_predictor_is_conservative() {
     let fo = fo_resonance(10.0);
     let rows: Vec<_> = [1e2, 1e3, 1e4].iter().map(|&g| predicted_row(10.0, g, &fo)).collect();
     for r in &rows {
-        assert!(r.4 + 1e-9 >= r.5, "FR e*_1 {:.2e} < e_1 {:.2e}", r.4, r.5);
-        assert!(r.6 + 1e-9 >= r.7, "NLR e*_1 {:.2e} < e_1 {:.2e}", r.6, r.7);
+        assert!(r.fr.1 + 1e-9 >= r.fr.2, "FR e*_1 {:.2e} < e_1 {:.2e}", r.fr.1, r.fr.2);
+        assert!(r.nlr.1 + 1e-9 >= r.nlr.2, "NLR e*_1 {:.2e} < e_1 {:.2e}", r.nlr.1, r.nlr.2);
     }
     for w in rows.windows(2) {
-        assert!(w[1].1 >= w[0].1, "n_1 grows with gamma");
-        assert!(w[1].2 < w[0].2 && w[1].3 < w[0].3, "error falls as the basis grows: {:?} -> {:?}", w[0], w[1]);
+        assert!(w[1].n1 >= w[0].n1, "n_1 grows with gamma");
+        assert!(w[1].fr.0 < w[0].fr.0 && w[1].nlr.0 < w[0].nlr.0, "error falls as the basis grows: {:?} -> {:?}", w[0], w[1]);
     }
     // The largest basis is accurate and says so.
-    assert!(rows[2].3 < 1e-3 && rows[2].6 < 0.05);
+    assert!(rows[2].nlr.0 < 1e-3 && rows[2].nlr.1 < 0.05);
 }
 
 /// Acceptance 3 at `alpha_ST / div`: the stuck-mode basis (gamma 1e3) is flagged by e*_1
 /// (> 0.05, and conservative), and the self-correcting NLR sweep ends with the worst e*_1 over
 /// the band at most 0.05 and X1 at the FO resonance below 1 %. Returns the first basis' row,
 /// the sweep and that X1 error.
-fn flagged_and_corrected(div: f64) -> ((usize, usize, f64, f64, f64, f64, f64, f64), AdaptiveSweep, f64) {
+fn flagged_and_corrected(div: f64) -> (PredictedRow, AdaptiveSweep, f64) {
     let b = blade();
     let fo = fo_resonance(div);
     let first = predicted_row(div, 1e3, &fo);
-    assert!(first.6 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.6);
-    assert!(first.6 + 1e-9 >= first.7);
+    assert!(first.nlr.1 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.nlr.1);
+    assert!(first.nlr.1 + 1e-9 >= first.nlr.2);
     let model = b.at_level(b.alpha_st / div);
     let hopts = HbmOptions::with_harmonics(1);
     let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(b.band.0, b.band.1) };
@@ -183,7 +192,7 @@ fn flagged_and_corrected(div: f64) -> ((usize, usize, f64, f64, f64, f64, f64, f
     let cond = CondensedSystem::new(&model, &hopts).unwrap();
     let s = solve_point(&NlrRom::new(&cond, &out.basis).unwrap(), fo.omega, None, &hopts).unwrap();
     let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
-    println!("alpha_ST/{div}: final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.0, first.1));
+    println!("alpha_ST/{div}: final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.n0, first.n1));
     assert!(x1 < 1e-2, "X1 error after correction {x1:.2e}");
     (first, out, x1)
 }
@@ -195,7 +204,7 @@ fn flagged_and_corrected(div: f64) -> ((usize, usize, f64, f64, f64, f64, f64, f
 #[test]
 fn poor_generating_shape_is_flagged_and_corrected() {
     let (first, out, _) = flagged_and_corrected(100.0);
-    assert!(out.basis.sizes[1] <= 2 * first.1, "similar size: n_1 {} from {}", out.basis.sizes[1], first.1);
+    assert!(out.basis.sizes[1] <= 2 * first.n1, "similar size: n_1 {} from {}", out.basis.sizes[1], first.n1);
 }
 
 /// FR's band-condensed rows at H = 3 keep the reduced system smooth enough to continue: a
