@@ -3,8 +3,10 @@
 //! the constraint modes (`keep_recovery: false`), the predicted basis (stuck mode, gamma 1e3,
 //! in-band + 2 modes) and 200-point FR and NLR sweeps of the band at `alpha_ST / 10`, H = 1.
 //! Prints each stage's time and the peak resident memory. The full-order sweep is not run
-//! (its dense Jacobian alone is `(3 n_w)^2` doubles, 2.4 GB at H = 1; see `jp_blade` for its
-//! measured per-point cost on smaller blades and the extrapolation).
+//! (its dense Jacobian alone is `(3 n_w)^2` doubles, 2.4 GB at H = 1, and each Newton
+//! iteration factorises it; see `jp_blade` for its per-point cost on smaller blades and the
+//! extrapolation); with `JPROM_2K_FO=1` one full-order point is solved at the NLR resonance
+//! from the NLR solution, for its measured cost and the actual errors of both ROMs.
 //!
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
@@ -20,12 +22,12 @@ use common::vm_hwm_mb;
 use jprom::aft::AftPlan;
 use jprom::cms::{BladeParams, BuiltinBlade, CbOptions};
 use jprom::condensation::CondensedSystem;
-use jprom::error_metric::predicted_error;
+use jprom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, stuck_mode, PredictionOptions};
 use faer::Mat;
 use jprom::model::{ContactCoordinates, Damping, Model};
-use jprom::rom::{FrRom, NlrRom};
+use jprom::rom::{FrRom, NlrRom, ReducedModel};
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -147,7 +149,6 @@ fn main() {
     let (pf, pn) = (peak(&fr_sweep.points), peak(&nlr_sweep.points));
     let es_fr = predicted_error(&fr, &plan, pf.omega, &pf.z).map(|e| e[1]).unwrap_or(f64::NAN);
     let es_nlr = predicted_error(&nlr, &plan, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
-    let _ = solve_point; // the FO point is out of reach here
     let nlr_vs_fr = {
         let (a, b) = (tip(&pf.outputs, pf.n_outputs, 1), tip(&pn.outputs, pn.n_outputs, 1));
         let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
@@ -163,4 +164,34 @@ fn main() {
         vm_hwm_mb(),
     );
     println!("(resonance {:.2} Hz FR, {:.2} Hz NLR)", pf.omega / (2.0 * PI), pn.omega / (2.0 * PI));
+
+    // One full-order point (condensed, dense Jacobian) at the NLR resonance, from the NLR
+    // solution: its measured cost per Newton iteration, and the actual errors e_1 of both ROMs
+    // there against their predictors e*_1.
+    if std::env::var("JPROM_2K_FO").map(|v| v == "1").unwrap_or(false) {
+        let guess = nlr.condensed_unknowns(&pn.z).unwrap();
+        let t = Instant::now();
+        match solve_point(&cond, pn.omega, Some(&guess), &hopts) {
+            Ok(fo) => {
+                let t_fo = stage(&format!("FO point: {} iterations, converged {}", fo.iterations, fo.converged), t);
+                let fr_pt = solve_point(&fr, pn.omega, Some(&pf.z), &hopts).ok();
+                let row = |name: &str, rom: &dyn ReducedModel, z: &[f64], outputs: &[f64]| {
+                    let e = actual_error(rom, &plan, pn.omega, z, &fo).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let es = predicted_error(rom, &plan, pn.omega, z).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let tip_e = tip_error(outputs, &fo.outputs, fo.n_outputs, 1);
+                    println!("| {name} | {e:.1e} | {es:.1e} | {tip_e:.1e} |");
+                };
+                println!("\nFull order at {:.2} Hz: {:.0} s for {} Newton iterations ({:.0} s each), peak RSS {:.0} MB", pn.omega / (2.0 * PI), t_fo, fo.iterations, t_fo / fo.iterations.max(1) as f64, vm_hwm_mb());
+                println!("| ROM | e_1 (actual) | e*_1 (predicted) | tip X1 error |");
+                println!("|---|---|---|---|");
+                row("NLR", &nlr, &pn.z, &pn.outputs);
+                if let Some(p) = fr_pt {
+                    row("FR", &fr, &p.z, &p.outputs);
+                }
+            }
+            Err(e) => {
+                stage(&format!("FO point failed: {e}"), t);
+            }
+        }
+    }
 }
