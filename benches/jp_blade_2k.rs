@@ -6,7 +6,14 @@
 //! (its dense Jacobian alone is `(3 n_w)^2` doubles, 2.4 GB at H = 1, and each Newton
 //! iteration factorises it; see `jp_blade` for its per-point cost on smaller blades and the
 //! extrapolation); with `JPROM_2K_FO=1` one full-order point is solved at the NLR resonance
-//! from the NLR solution, for its measured cost and the actual errors of both ROMs.
+//! from the NLR solution, for its measured cost and the actual errors of both ROMs. That
+//! point peaked at 16.6 GB resident (dense Jacobian, its LU and the condensed `n_w x n_w`
+//! complex blocks): it needs a machine with ~20 GB free.
+//!
+//! Measured (shared 2-core machine, load 5-7, 20 samples, cached CB): CB 645 s at 4.0 GB;
+//! basis 1,410 s (20 patterns, ~70 s each), sizes [57, 11]; FR 0.113 s/point, NLR
+//! 0.124 s/point; e*_1 0.026 (FR), 0.028 (NLR); one FO point 114 s (3 iterations), actual
+//! e_1 3.4e-3 (FR), 2.6e-3 (NLR).
 //!
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
