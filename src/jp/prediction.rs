@@ -30,7 +30,7 @@ use std::collections::HashSet;
 
 /// Largest estimated working set of one pattern's JP-mode solve ([`pattern_working_set_bytes`])
 /// for which [`predict_basis`] solves the patterns in parallel.
-pub const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
+pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
 
 /// Estimated bytes of the dense matrices of one pattern's JP-mode solve: `K̂`
 /// (`((2H + 1) n_w)^2`), the shifted condensed matrix and its LU (`2 (2 H n)^2`), and the
