@@ -3,8 +3,9 @@
 //! the peak resident memory (VmHWM from /proc/self/status) is its own.
 //!
 //! `cargo bench --bench cms` prints a table. The ~2,000-contact-node case builds the FE model
-//! only, unless `JPROM_BENCH_LARGE=1` (its Craig-Bampton needs the dense `n_i x n_b`
-//! constraint modes, several GB: see the report in the cms module doc).
+//! only, unless `JPROM_BENCH_LARGE=1` (its Craig-Bampton with the constraint modes kept, as
+//! here, needs their ~6 GB and about 10 minutes: see the report in the cms module doc;
+//! `jp_blade_2k` reduces it without them).
 
 mod common;
 

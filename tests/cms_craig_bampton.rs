@@ -5,7 +5,7 @@
 use faer::prelude::Solve;
 use faer::Mat;
 use jprom::cms::blade::dense_generalized_eigenvalues;
-use jprom::cms::{sparse_to_dense, BladeFe, BladeParams, BuiltinBlade, SparseCholesky};
+use jprom::cms::{sparse_to_dense, BladeFe, BladeParams, BuiltinBlade, CbOptions, SparseCholesky};
 use jprom::model::Damping;
 
 fn coarse_blade() -> BladeFe {
@@ -105,4 +105,45 @@ fn reduced_model_is_a_valid_jprom_model() {
     for (o, d) in m.output_dofs.iter().zip(&fe.output_dofs) {
         assert_eq!(cb.cb.boundary_dofs[*o], *d);
     }
+}
+
+/// The reduced matrices are `T^T K T`, `T^T M T` with `T` built densely from the kept
+/// constraint and fixed-interface modes, and the same without keeping the constraint modes
+/// (the blocked path with the second solve). Refinement 3 has 98 contact nodes, so the
+/// 321 boundary DoFs span two column blocks.
+#[test]
+fn reduced_matrices_are_the_projection_with_and_without_recovery() {
+    let mut p = BladeParams { n_span: 18, n_chord: 4, n_thickness: 2, n_shroud_gap: 2, ..Default::default() };
+    p.refinement = 3;
+    let fe = BuiltinBlade::build(&p).unwrap();
+    let nb = fe.boundary_dofs().len();
+    assert!(nb > 256, "{nb} boundary DoFs do not span two blocks");
+    let kept = fe.reduce_with(CbOptions { n_modes: 12, keep_recovery: true }).unwrap().cb;
+    let lean = fe.reduce_with(CbOptions { n_modes: 12, keep_recovery: false }).unwrap().cb;
+    assert!(lean.constraint_modes.is_none());
+    assert!(lean.recover(&vec![0.0; lean.n_reduced()]).is_err());
+    let psi = kept.constraint_modes.as_ref().unwrap();
+    let (n, nr) = (fe.n_dof(), kept.n_reduced());
+    let mut t = Mat::<f64>::zeros(n, nr);
+    for (r, &d) in kept.boundary_dofs.iter().enumerate() {
+        t[(d, r)] = 1.0;
+    }
+    for (r, &d) in kept.interior_dofs.iter().enumerate() {
+        for c in 0..nb {
+            t[(d, c)] = psi[(r, c)];
+        }
+        for c in 0..kept.modal_eigenvalues.len() {
+            t[(d, nb + c)] = kept.fixed_interface_modes[(r, c)];
+        }
+    }
+    let kd = sparse_to_dense(&fe.stiffness);
+    let md = sparse_to_dense(&fe.mass);
+    let k_ref = t.transpose() * &kd * &t;
+    let m_ref = t.transpose() * &md * &t;
+    let rel = |a: &Mat<f64>, b: &Mat<f64>| (a - b).norm_l2() / b.norm_l2();
+    for (name, cb) in [("kept", &kept), ("lean", &lean)] {
+        assert!(rel(&cb.stiffness, &k_ref) < 1e-9, "{name} K_red: {:.2e}", rel(&cb.stiffness, &k_ref));
+        assert!(rel(&cb.mass, &m_ref) < 1e-9, "{name} M_red: {:.2e}", rel(&cb.mass, &m_ref));
+    }
+    assert!(rel(&lean.mass, &kept.mass) < 1e-11 && rel(&lean.stiffness, &kept.stiffness) < 1e-11);
 }

@@ -168,3 +168,39 @@ fn basis_save_load_roundtrip() {
         assert!((a - b).norm_max() <= 1e-15 * b.norm_max().max(1.0));
     }
 }
+
+/// The per-contact products of `K̂` blocks equal the dense ones on a slipping Jacobian (node
+/// pair and ground contacts, H = 2), and a `K̂` with a coupling between two contacts is not
+/// taken as per-contact (the JP solves then use the dense products).
+#[test]
+fn per_contact_products_match_dense_and_coupling_is_detected() {
+    let model = chain_model(&ChainOptions::default());
+    let harmonics = 2;
+    let coords = ContactCoordinates::new(&model, harmonics).unwrap();
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
+    let band = (0.9 * freqs[0], 1.1 * freqs[0]);
+    let k_hat = slipping_jacobian(&coords, harmonics, band, 3.0);
+    let (laws, offsets) = (&coords.laws, &coords.offsets);
+    assert!(k_hat.is_per_contact(laws, offsets));
+    let nw = coords.n_w;
+    let mut rng = StdRng::seed_from_u64(5);
+    let x = Mat::from_fn(nw, 4, |_, _| rng.gen_range(-1.0..1.0));
+    let xt = x.transpose().to_owned();
+    let mut checked = 0;
+    for k in 0..2 * harmonics + 1 {
+        for l in 0..2 * harmonics + 1 {
+            let dense = k_hat.block(k, l) * &x;
+            let err = (k_hat.block_times(k, l, x.as_ref(), laws, offsets) - &dense).norm_l2();
+            assert!(err <= 1e-14 * (1.0 + dense.norm_l2()), "K̂_{k}{l} X: {err:.2e}");
+            let dense_r = &xt * k_hat.block(k, l);
+            let err = (k_hat.times_block(xt.as_ref(), k, l, laws, offsets) - &dense_r).norm_l2();
+            assert!(err <= 1e-14 * (1.0 + dense_r.norm_l2()), "X K̂_{k}{l}: {err:.2e}");
+            checked += (dense.norm_l2() > 0.0) as usize;
+        }
+    }
+    assert!(checked > 2 * harmonics + 1, "the slipping Jacobian couples harmonics ({checked} non-zero blocks)");
+    let mut coupled = k_hat.clone();
+    let (a, b) = (offsets[0], offsets[1]);
+    coupled.k_hat[(nw + a, 2 * nw + b)] = 1.0;
+    assert!(!coupled.is_per_contact(laws, offsets));
+}

@@ -11,9 +11,12 @@
 //! and the reduced matrices `T^T K T`, `T^T M T` are dense of size `n_b + n_modes`:
 //! `K_red = [K_bb + K_bi Psi, 0; 0, diag(lambda)]`,
 //! `M_red = [M_bb + M_bi Psi + Psi^T (M_ib + M_ii Psi), (.)^T; Phi^T (M_ib + M_ii Psi), Phi^T M_ii Phi]`.
-//! `K_ii` is factorised once (sparse Cholesky); `Psi` is one multi-right-hand-side solve; the
-//! modes come from [`super::eigen::lowest_modes`]. Only `n_i x n_b` and `n_i x n_modes`
-//! dense blocks are ever formed, never an `n x n` one.
+//! `K_ii` is factorised once (sparse Cholesky) and `Psi` is solved for in blocks of boundary
+//! columns; `Psi^T (M_ib + M_ii Psi)` is `-K_bi K_ii^-1 (M_ib + M_ii Psi)` (a second solve per
+//! block), so the whole `n_i x n_b` matrix `Psi` is formed only if it is kept for recovery
+//! ([`CbOptions::keep_recovery`]); otherwise the working set is the factor plus
+//! `n_i x (n_modes + a few hundred)` dense columns. The modes come from
+//! [`super::eigen::lowest_modes`]. No `n x n` dense block is ever formed.
 
 use super::eigen::{lowest_modes, SparseCholesky};
 use super::{sparse_dense_block, sparse_submatrix, SparseMat};
@@ -27,8 +30,9 @@ pub struct CbOptions {
     /// Number of fixed-interface (interior) modes kept.
     pub n_modes: usize,
     /// Keep the constraint modes `Psi` (`n_i x n_b`) for recovering physical DoFs. Without them
-    /// [`CraigBampton::recover`] and [`CraigBampton::reduce_force`] are unavailable, which
-    /// halves peak memory for models with thousands of boundary DoFs.
+    /// [`CraigBampton::recover`] and [`CraigBampton::reduce_force`] are unavailable, and the
+    /// reduction holds no `n_i x n_b` dense block at all (the factor of `K_ii` plus a few
+    /// `n_i x 256` blocks), which is what makes thousands of boundary DoFs fit.
     pub keep_recovery: bool,
 }
 
@@ -108,65 +112,48 @@ impl CraigBampton {
         let m_bb = sparse_dense_block(m, &b_map, nb, boundary);
 
         let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
-
-        // Constraint modes: one multi-right-hand-side solve.
-        let mut psi = sparse_dense_block(&k_ib, &identity_map(ni), ni, &(0..nb).collect::<Vec<_>>());
-        chol.solve_in_place(psi.as_mut());
-        psi *= faer::Scale(-1.0);
-
         let modes = lowest_modes(&chol, &m_ii, n_modes)?;
-        drop(chol);
         let phi = modes.vectors;
 
         let nr = nb + n_modes;
         let par = Par::rayon(0);
-        // K_red
         let mut k_red = Mat::<f64>::zeros(nr, nr);
-        {
-            let mut kbb = k_red.as_mut().submatrix_mut(0, 0, nb, nb);
-            kbb.copy_from(&k_bb);
+        let mut m_red = Mat::<f64>::zeros(nr, nr);
+        k_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&k_bb);
+        m_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&m_bb);
+        for (r, &lam) in modes.eigenvalues.iter().enumerate() {
+            k_red[(nb + r, nb + r)] = lam;
+        }
+        // Boundary columns in blocks B, never more than `n_i x BLOCK` dense at a time besides
+        // the kept `Psi`:
+        //   Psi_B = -K_ii^-1 K_iB,   X_B = M_iB + M_ii Psi_B,
+        //   K_red[b, B] = K_bB + K_bi Psi_B,   M_red[m, B] = Phi^T X_B,
+        //   M_red[b, B] = M_bB + M_bi Psi_B + Psi^T X_B,  Psi^T X_B = -K_bi (K_ii^-1 X_B),
+        // the last by a second solve, so the whole of `Psi` is never needed.
+        let mut psi_all = if options.keep_recovery { Some(Mat::<f64>::zeros(ni, nb)) } else { None };
+        let all_i = identity_map(ni);
+        let mut start = 0;
+        while start < nb {
+            let w = BLOCK.min(nb - start);
+            let cols: Vec<usize> = (start..start + w).collect();
+            let mut psi = sparse_dense_block(&k_ib, &all_i, ni, &cols);
+            chol.solve_in_place(psi.as_mut());
+            psi *= faer::Scale(-1.0);
+            let mut x = sparse_dense_block(&m_ib, &all_i, ni, &cols);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(x.as_mut(), Accum::Add, m_ii.as_ref(), psi.as_ref(), 1.0, par);
             faer::sparse::linalg::matmul::sparse_dense_matmul(
-                kbb,
+                k_red.as_mut().submatrix_mut(0, start, nb, w),
                 Accum::Add,
                 k_ib.as_ref().transpose(),
                 psi.as_ref(),
                 1.0,
                 par,
             );
-            for (r, &lam) in modes.eigenvalues.iter().enumerate() {
-                k_red[(nb + r, nb + r)] = lam;
-            }
-        }
-        // M_red, boundary columns in blocks: X_B = M_ib[:, B] + M_ii Psi[:, B].
-        let mut m_red = Mat::<f64>::zeros(nr, nr);
-        m_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&m_bb);
-        faer::sparse::linalg::matmul::sparse_dense_matmul(
-            m_red.as_mut().submatrix_mut(0, 0, nb, nb),
-            Accum::Add,
-            m_ib.as_ref().transpose(),
-            psi.as_ref(),
-            1.0,
-            par,
-        );
-        let all_i = identity_map(ni);
-        let mut start = 0;
-        while start < nb {
-            let w = BLOCK.min(nb - start);
-            let cols: Vec<usize> = (start..start + w).collect();
-            let mut x = sparse_dense_block(&m_ib, &all_i, ni, &cols);
             faer::sparse::linalg::matmul::sparse_dense_matmul(
-                x.as_mut(),
-                Accum::Add,
-                m_ii.as_ref(),
-                psi.as_ref().subcols(start, w),
-                1.0,
-                par,
-            );
-            matmul(
                 m_red.as_mut().submatrix_mut(0, start, nb, w),
                 Accum::Add,
-                psi.as_ref().transpose(),
-                x.as_ref(),
+                m_ib.as_ref().transpose(),
+                psi.as_ref(),
                 1.0,
                 par,
             );
@@ -178,8 +165,22 @@ impl CraigBampton {
                 1.0,
                 par,
             );
+            if let Some(all) = psi_all.as_mut() {
+                all.as_mut().subcols_mut(start, w).copy_from(&psi);
+            }
+            drop(psi);
+            chol.solve_in_place(x.as_mut());
+            faer::sparse::linalg::matmul::sparse_dense_matmul(
+                m_red.as_mut().submatrix_mut(0, start, nb, w),
+                Accum::Add,
+                k_ib.as_ref().transpose(),
+                x.as_ref(),
+                -1.0,
+                par,
+            );
             start += w;
         }
+        drop(chol);
         {
             let mut mphi = Mat::<f64>::zeros(ni, n_modes);
             faer::sparse::linalg::matmul::sparse_dense_matmul(mphi.as_mut(), Accum::Replace, m_ii.as_ref(), phi.as_ref(), 1.0, par);
@@ -221,7 +222,7 @@ impl CraigBampton {
             mass: m_red,
             modal_eigenvalues: modes.eigenvalues,
             fixed_interface_modes: phi,
-            constraint_modes: if options.keep_recovery { Some(psi) } else { None },
+            constraint_modes: psi_all,
         })
     }
 

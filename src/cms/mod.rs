@@ -10,10 +10,10 @@
 //! Cost (benches/cms.rs, 2 cores): default blade (22,134 DoFs, 18 contact nodes) builds in
 //! ~1.2 s and reduces (50 modes) in ~5.4 s at ~0.3 GB peak; `refinement = 5` (39,678 DoFs,
 //! 242 contact nodes) ~2.3 s + 15 s at ~0.85 GB. With ~2,000 contact nodes
-//! (`refinement = 15`, 140,658 DoFs) the model builds in ~16 s (2.3 GB), but Craig-Bampton with
-//! all ~5,800 contact DoFs as boundary would need the dense `n_i x n_b` constraint modes
-//! (~6 GB) and an `n_b x n_b x n_i` product: such models need interface reduction (or
-//! condensation onto the contact DoFs, §5) rather than plain Craig-Bampton.
+//! (`refinement = 15`, 140,658 DoFs) the model builds in ~16 s (2.3 GB); Craig-Bampton with all
+//! ~5,800 contact DoFs as boundary and `keep_recovery: false` (no `n_i x n_b` constraint modes,
+//! blocks of 256 boundary columns) took 643 s at 4.0 GB peak on a shared 2-core machine
+//! (benches/jp_blade_2k.rs); keeping the constraint modes adds their ~6 GB.
 
 pub mod hex8;
 pub mod blade;

@@ -278,3 +278,128 @@ impl HarmonicSystem for CondensedSystem {
         self.coords.output_dofs.len()
     }
 }
+
+/// The condensed linear part (method.md §5) projected onto per-harmonic contact-row bases
+/// `P_h` (`n_w x n_h`), without forming any `n_w x n_w` matrix per frequency:
+///
+/// ```text
+/// P^T H_h P = P^T D_NN P - (D_LN P)^T D_LL^-1 (D_LN P),
+/// P^T g_h   = P^T f_N   - (D_LN P)^T D_LL^-1 f_L
+/// ```
+///
+/// (`D` symmetric), with `P^T A_NN P` and `A_LN P` for `A = K, M, C` formed once. A frequency
+/// then costs an LU of the `n_L`-square `D_LL` and products of size `n_L x n_h`, instead of the
+/// `O(n_w^2 n_L)` condensation and `O(n_w^2 n_h)` projection of the dense `H_h`. This is the
+/// linear part of the JP NLR model (method.md §9).
+#[derive(Clone, Debug)]
+pub struct ProjectedCondensation {
+    harmonics: usize,
+    /// `P_0^T H_0 P_0`, `P_0^T g_0`.
+    d0: Mat<f64>,
+    f0: Vec<f64>,
+    /// Per harmonic `h = 1..=H`: `P^T A_NN P` and `A_LN P` for `A = K, M, C`, and the
+    /// projected contact-row force and the linear-row force (cos, sin).
+    nn: Vec<[Mat<f64>; 3]>,
+    ln: Vec<[Mat<f64>; 3]>,
+    f_n: Vec<(Vec<f64>, Vec<f64>)>,
+    f_l: Vec<(Vec<f64>, Vec<f64>)>,
+    /// `A_LL` for `A = K, M, C`.
+    ll: [Mat<f64>; 3],
+}
+
+impl CondensedSystem {
+    /// The projection of this system's linear part onto `bases[h]` (`n_w` rows each,
+    /// `h = 0..=H`), see [`ProjectedCondensation`].
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] for a wrong number of bases or of rows.
+    pub fn project(&self, bases: &[Mat<f64>]) -> Result<ProjectedCondensation> {
+        let c = &self.coords;
+        let (n, nw) = (c.n_dof, c.n_w);
+        let nl = n - nw;
+        let hh = self.layout.harmonics;
+        if bases.len() != hh + 1 {
+            return Err(JpError::bad_size("projection bases (harmonics + 1)", hh + 1, bases.len()));
+        }
+        if let Some(b) = bases.iter().find(|b| b.nrows() != nw) {
+            return Err(JpError::bad_size("projection basis (rows)", nw, b.nrows()));
+        }
+        let mats = [&c.stiffness, &c.mass, &c.damping];
+        let p0 = &bases[0];
+        let d0 = p0.transpose() * &self.h0 * p0;
+        let f0 = (0..p0.ncols()).map(|j| (0..nw).map(|i| p0[(i, j)] * self.g0[i]).sum()).collect();
+        let ll = mats.map(|a| a.as_ref().submatrix(nw, nw, nl, nl).to_owned());
+        let mut nn = Vec::with_capacity(hh);
+        let mut ln = Vec::with_capacity(hh);
+        let mut f_n = Vec::with_capacity(hh);
+        let mut f_l = Vec::with_capacity(hh);
+        for h in 1..=hh {
+            let p = &bases[h];
+            nn.push(mats.map(|a| p.transpose() * a.as_ref().submatrix(0, 0, nw, nw) * p));
+            ln.push(mats.map(|a| a.as_ref().submatrix(nw, 0, nl, nw) * p));
+            let (fc, fs) = &c.harmonic_force[h - 1];
+            let proj = |f: &[f64]| -> Vec<f64> { (0..p.ncols()).map(|j| (0..nw).map(|i| p[(i, j)] * f[i]).sum()).collect() };
+            f_n.push((proj(fc), proj(fs)));
+            f_l.push((fc[nw..].to_vec(), fs[nw..].to_vec()));
+        }
+        Ok(ProjectedCondensation { harmonics: hh, d0, f0, nn, ln, f_n, f_l, ll })
+    }
+}
+
+impl ProjectedCondensation {
+    /// The projected linear part at `omega` (the [`LinearPart`] of the reduced unknowns).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] for `omega <= 0`; [`JpError::SingularMatrix`] if `D_LL` is
+    /// singular at this frequency.
+    pub fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        check_omega(omega)?;
+        let mut lin = LinearPart {
+            d0: self.d0.clone(),
+            f0: self.f0.clone(),
+            dh_re: Vec::new(),
+            dh_im: Vec::new(),
+            fh_cos: Vec::new(),
+            fh_sin: Vec::new(),
+        };
+        let nl = self.ll[0].nrows();
+        for h in 1..=self.harmonics {
+            let hw = h as f64 * omega;
+            let d = |a: &[Mat<f64>; 3], i: usize, j: usize| c64::new(a[0][(i, j)] - hw * hw * a[1][(i, j)], hw * a[2][(i, j)]);
+            let nn = &self.nn[h - 1];
+            let nh = nn[0].nrows();
+            let mut re = Mat::from_fn(nh, nh, |i, j| d(nn, i, j).re);
+            let mut im = Mat::from_fn(nh, nh, |i, j| d(nn, i, j).im);
+            let (mut gc, mut gs) = self.f_n[h - 1].clone();
+            if nl > 0 {
+                let d_ll = Mat::from_fn(nl, nl, |i, j| d(&self.ll, i, j));
+                let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+                let ln = &self.ln[h - 1];
+                let (fc, fs) = &self.f_l[h - 1];
+                let dlnp = Mat::from_fn(nl, nh, |i, j| d(ln, i, j));
+                let mut rhs = Mat::<c64>::zeros(nl, nh + 1);
+                rhs.as_mut().subcols_mut(0, nh).copy_from(&dlnp);
+                for i in 0..nl {
+                    rhs[(i, nh)] = c64::new(fc[i], -fs[i]);
+                }
+                let x = lu.solve(&rhs);
+                let prod = dlnp.transpose() * &x;
+                for j in 0..nh {
+                    for i in 0..nh {
+                        re[(i, j)] -= prod[(i, j)].re;
+                        im[(i, j)] -= prod[(i, j)].im;
+                    }
+                }
+                for i in 0..nh {
+                    gc[i] -= prod[(i, nh)].re;
+                    gs[i] += prod[(i, nh)].im;
+                }
+            }
+            lin.dh_re.push(re);
+            lin.dh_im.push(im);
+            lin.fh_cos.push(gc);
+            lin.fh_sin.push(gs);
+        }
+        Ok(lin)
+    }
+}

@@ -351,10 +351,13 @@ fn condensed_stiffness(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_w
     for c in 0..nj {
         kjc.as_mut().submatrix_mut(c * n, c * n, n, n).copy_from(&coords.stiffness);
     }
+    let (laws, offsets) = (&coords.laws, &coords.offsets);
+    let per_contact = k_hat.is_per_contact(laws, offsets);
     for ci in 1..=nj {
-        let left = k_hat.block(ci, 0) * g_ww; // K̂_i0 A0^-1|_ww
+        // K̂_i0 A0^-1|_ww
+        let left = if per_contact { k_hat.block_times(ci, 0, g_ww.as_ref(), laws, offsets) } else { k_hat.block(ci, 0) * g_ww };
         for cj in 1..=nj {
-            let corr = &left * k_hat.block(0, cj);
+            let corr = if per_contact { k_hat.times_block(left.as_ref(), 0, cj, laws, offsets) } else { &left * k_hat.block(0, cj) };
             let kij = k_hat.block(ci, cj);
             for j in 0..nw {
                 for i in 0..nw {

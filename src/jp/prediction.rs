@@ -23,10 +23,22 @@ use crate::error::{JpError, Result};
 use crate::hbm::default_nt;
 use crate::linalg::norm2;
 use crate::model::ContactCoordinates;
-use faer::{Mat, Side};
+use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
+
+/// Largest estimated working set of one pattern's JP-mode solve ([`pattern_working_set_bytes`])
+/// for which [`predict_basis`] solves the patterns in parallel.
+pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
+
+/// Estimated bytes of the dense matrices of one pattern's JP-mode solve: `K̂`
+/// (`((2H + 1) n_w)^2`), the shifted condensed matrix and its LU (`2 (2 H n)^2`), and the
+/// `n`-square static condensation blocks.
+pub fn pattern_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> f64 {
+    let f = |x: usize| x as f64;
+    8.0 * (f((2 * harmonics + 1) * nw).powi(2) + 2.0 * f(2 * harmonics * n).powi(2) + 3.0 * f(n).powi(2))
+}
 
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
 pub const GIVEN_SHAPE_P_MAX: f64 = 1.25;
@@ -116,21 +128,13 @@ pub struct PredictionReport {
 /// Euclidean length in z-coordinates.
 ///
 /// # Errors
-/// [`JpError::SingularMatrix`] if `M` is not positive definite, [`JpError::Eigen`] on failure.
+/// [`JpError::Eigen`] if the shift-invert iteration fails (as for a mass matrix that is not
+/// positive definite, or a band centre exactly on a stuck eigenvalue).
 pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64, Vec<f64>)> {
-    let n = coords.n_dof;
     let k = stuck_stiffness(coords);
-    let l = coords.mass.llt(Side::Lower).map_err(|_| JpError::singular("mass matrix (not positive definite)"))?.L().to_owned();
-    let mut a = k;
-    l.as_ref().solve_lower_triangular_in_place(a.as_mut());
-    let mut at = a.transpose().to_owned();
-    l.as_ref().solve_lower_triangular_in_place(at.as_mut());
-    let sym = Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
     let centre = 0.5 * (band.0 + band.1);
-    let (lambda, u) = crate::linalg::symmetric_eigenpair_nearest(&sym, centre * centre, "stuck modes")?;
-    let mut v = Mat::from_fn(n, 1, |i, _| u[i]);
-    l.transpose().solve_upper_triangular_in_place(v.as_mut());
-    let mut phi: Vec<f64> = (0..n).map(|i| v[(i, 0)]).collect();
+    // Shift-invert at the band centre: one LU of the model size, no full eigen solve.
+    let (lambda, mut phi) = crate::linalg::generalized_eigenpair_nearest(&k, &coords.mass, centre * centre, "stuck modes")?;
     // Unit length, and a sign that does not depend on the solver: largest entry positive.
     let big = phi.iter().copied().fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
     let nrm = norm2(&phi).copysign(big);
@@ -333,17 +337,28 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         })
         .collect();
 
-    // Distinct patterns and their boundary conditions.
+    // Distinct patterns; their boundary conditions (the dense K̂, `((2H + 1) n_w)^2`) are
+    // assembled one pattern at a time, inside the JP-mode solve.
     let mut seen = HashSet::new();
-    let mut chosen: Vec<(f64, ContactJacobian)> = Vec::new();
+    let mut chosen: Vec<(f64, ContactForces)> = Vec::new();
     for &p in &samples {
         let forces = at(p, true);
         if seen.insert(pattern(&forces)) {
-            let w = contact_w(nw, hh, &q0, &c, &s, p);
-            chosen.push((p, ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &forces, &w)?));
+            chosen.push((p, forces));
         }
     }
-    let modes: Vec<JpModes> = chosen.par_iter().map(|(_, kj)| jp_modes(coords, kj, &opts.modes)).collect::<Result<_>>()?;
+    let modes_of = |(p, forces): &(f64, ContactForces)| -> Result<JpModes> {
+        let w = contact_w(nw, hh, &q0, &c, &s, *p);
+        let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w)?;
+        jp_modes(coords, &kj, &opts.modes)
+    };
+    // Patterns in parallel while their working sets are small; one at a time (each solve
+    // parallel inside) once a pattern's dense matrices reach `PARALLEL_PATTERNS_MAX_BYTES`.
+    let modes: Vec<JpModes> = if pattern_working_set_bytes(n, nw, hh) <= PARALLEL_PATTERNS_MAX_BYTES {
+        chosen.par_iter().map(modes_of).collect::<Result<_>>()?
+    } else {
+        chosen.iter().map(modes_of).collect::<Result<_>>()?
+    };
     let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?.with_band(opts.modes.band);
     let report = PredictionReport {
         omega_stuck,

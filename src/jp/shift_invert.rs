@@ -101,11 +101,14 @@ impl<'a> CondensedProblem<'a> {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
         let nj = 2 * hh;
+        // K̂ is block-diagonal by contact (checked): the products cost O(n_w^2), not O(n_w^3).
+        let (laws, offsets) = (&coords.laws, &coords.offsets);
+        let per_contact = k_hat.is_per_contact(laws, offsets);
         let mut s = Mat::<f64>::zeros(nj * nw, nj * nw);
         for ci in 1..=nj {
-            let left = k_hat.block(ci, 0) * g_ww;
+            let left = if per_contact { k_hat.block_times(ci, 0, g_ww.as_ref(), laws, offsets) } else { k_hat.block(ci, 0) * g_ww };
             for cj in 1..=nj {
-                let corr = &left * k_hat.block(0, cj);
+                let corr = if per_contact { k_hat.times_block(left.as_ref(), 0, cj, laws, offsets) } else { &left * k_hat.block(0, cj) };
                 let kij = k_hat.block(ci, cj);
                 for j in 0..nw {
                     for i in 0..nw {
@@ -153,21 +156,33 @@ impl<'a> CondensedProblem<'a> {
     fn abs_products(&self, v: &[c64]) -> (f64, f64) {
         let (n, nw) = (self.coords.n_dof, self.coords.n_w);
         let nj = 2 * self.harmonics;
-        let a = Mat::from_fn(nj * n, 1, |i, _| v[i].re.hypot(v[i].im));
-        let kabs = Mat::from_fn(n, n, |i, j| self.coords.stiffness[(i, j)].abs());
-        let mabs = Mat::from_fn(n, n, |i, j| self.coords.mass[(i, j)].abs());
-        let sabs = Mat::from_fn(nj * nw, nj * nw, |i, j| self.s[(i, j)].abs());
+        let a: Vec<f64> = v.iter().map(|z| z.re.hypot(z.im)).collect();
+        // |A| x without forming |A| (these are model-sized matrices).
+        let abs_times = |m: &Mat<f64>, x: &[f64], out: &mut [f64]| {
+            for (j, &xj) in x.iter().enumerate() {
+                if xj != 0.0 {
+                    for (o, mij) in out.iter_mut().zip(m.col(j).iter()) {
+                        *o += mij.abs() * xj;
+                    }
+                }
+            }
+        };
+        let aw: Vec<f64> = (0..nj * nw).map(|r| a[(r / nw) * n + r % nw]).collect();
+        let mut sa = vec![0.0; nj * nw];
+        abs_times(&self.s, &aw, &mut sa);
         let (mut k2, mut m2) = (0.0, 0.0);
-        let sa = &sabs * gather_w(a.as_ref(), n, nw, nj);
         for c in 0..nj {
             let h = (c / 2 + 1) as f64;
-            let ac = a.as_ref().submatrix(c * n, 0, n, 1);
-            let mut kc = &kabs * ac;
+            let ac = &a[c * n..(c + 1) * n];
+            let mut kc = vec![0.0; n];
+            abs_times(&self.coords.stiffness, ac, &mut kc);
             for i in 0..nw {
-                kc[(i, 0)] += sa[(c * nw + i, 0)];
+                kc[i] += sa[c * nw + i];
             }
-            k2 += kc.norm_l2().powi(2);
-            m2 += (h * h * (&mabs * ac).norm_l2()).powi(2);
+            let mut mc = vec![0.0; n];
+            abs_times(&self.coords.mass, ac, &mut mc);
+            k2 += kc.iter().map(|x| x * x).sum::<f64>();
+            m2 += h.powi(4) * mc.iter().map(|x| x * x).sum::<f64>();
         }
         (k2.sqrt(), m2.sqrt())
     }

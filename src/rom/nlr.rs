@@ -2,10 +2,12 @@
 //! condensed system of §5 ([`CondensedSystem`]), with `Φ_N,h` the contact rows of the JP basis,
 //! orthonormalised. The linear DoFs stay exact (condensation); per frequency the reduced
 //! dynamic stiffness `Φ_N^T H_h(omega) Φ_N` costs one condensation of `D_h` (a factorisation
-//! of `D_h,LL`), which is what makes NLR slower per iteration than FR.
+//! of `D_h,LL`), which is what makes NLR slower per iteration than FR. The condensation is
+//! done on the projected blocks ([`ProjectedCondensation`]), so a frequency costs nothing of
+//! order `n_w^2`.
 
 use super::ReducedModel;
-use crate::condensation::CondensedSystem;
+use crate::condensation::{CondensedSystem, ProjectedCondensation};
 use crate::contact::ContactLaw;
 use crate::error::{check_finite, JpError, Result};
 use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
@@ -22,6 +24,8 @@ pub struct NlrRom {
     layout: HarmonicLayout,
     /// Orthonormal `Φ_N,h` (`n_w x s_h`).
     phi_n: Vec<Mat<f64>>,
+    /// The linear part projected onto `Φ_N,h`.
+    projected: ProjectedCondensation,
 }
 
 /// Orthonormal basis of the columns of `a` (thin SVD, singular values above `tol * s_max`).
@@ -61,7 +65,8 @@ impl NlrRom {
             return Err(JpError::invalid("JP basis", "no first-harmonic column on the contact coordinates"));
         }
         let layout = HarmonicLayout::new(phi_n.iter().map(|p| p.ncols()).collect());
-        Ok(NlrRom { condensed: condensed.clone(), layout, phi_n })
+        let projected = condensed.project(&phi_n)?;
+        Ok(NlrRom { condensed: condensed.clone(), layout, phi_n, projected })
     }
 
     /// Orthonormal contact-row bases `Φ_N,h`.
@@ -102,9 +107,6 @@ fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
     out
 }
 
-fn mat_t_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
-    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)] * v[i]).sum()).collect()
-}
 
 impl HarmonicSystem for NlrRom {
     fn layout(&self) -> &HarmonicLayout {
@@ -123,24 +125,7 @@ impl HarmonicSystem for NlrRom {
         ContactMap::Dense(self.phi_n[h].as_ref())
     }
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
-        let full = self.condensed.linear_part(omega)?;
-        let p0 = &self.phi_n[0];
-        let mut lin = LinearPart {
-            d0: p0.transpose() * &full.d0 * p0,
-            f0: mat_t_vec(p0, &full.f0),
-            dh_re: Vec::new(),
-            dh_im: Vec::new(),
-            fh_cos: Vec::new(),
-            fh_sin: Vec::new(),
-        };
-        for h in 1..=self.layout.harmonics {
-            let p = &self.phi_n[h];
-            lin.dh_re.push(p.transpose() * &full.dh_re[h - 1] * p);
-            lin.dh_im.push(p.transpose() * &full.dh_im[h - 1] * p);
-            lin.fh_cos.push(mat_t_vec(p, &full.fh_cos[h - 1]));
-            lin.fh_sin.push(mat_t_vec(p, &full.fh_sin[h - 1]));
-        }
-        Ok(lin)
+        self.projected.linear_part(omega)
     }
     fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
         let q = self.condensed_unknowns(z)?;
