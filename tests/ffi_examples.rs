@@ -37,14 +37,20 @@ fn rust_table() -> Vec<Vec<f64>> {
     rows
 }
 
+/// `e*_1` below this is round-off (the threshold of a poor basis is 0.05).
+const E_STAR_ROUND_OFF: f64 = 1e-9;
+
 fn assert_same_table(what: &str, got: &[Vec<f64>], expect: &[Vec<f64>]) {
     assert_eq!(got.len(), expect.len(), "{what}: number of points");
     assert!(got.len() > 20, "{what}: too few points");
     for (g, e) in got.iter().zip(expect) {
         assert_eq!(g.len(), e.len(), "{what}: row {g:?} vs {e:?}");
-        for (a, b) in g.iter().zip(e) {
-            // the examples print 11 significant digits
-            assert!((a - b).abs() <= 1e-9 * b.abs().max(1e-12), "{what}: {g:?} vs {e:?}");
+        for (k, (a, b)) in g.iter().zip(e).enumerate() {
+            // The examples print 11 significant digits. e*_1 (column 4 of the JP rows) of an
+            // exact basis is round-off, 1e-15 to 1e-12 depending on the summation order of the
+            // parallel products; below 1e-9 both sides count as zero.
+            let round_off = k == 4 && a.abs().max(b.abs()) < E_STAR_ROUND_OFF;
+            assert!(round_off || (a - b).abs() <= 1e-9 * b.abs().max(1e-12), "{what}: {g:?} vs {e:?}");
         }
     }
 }

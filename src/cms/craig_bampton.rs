@@ -130,15 +130,31 @@ impl CraigBampton {
         //   K_red[b, B] = K_bB + K_bi Psi_B,   M_red[m, B] = Phi^T X_B,
         //   M_red[b, B] = M_bB + M_bi Psi_B + Psi^T X_B,  Psi^T X_B = -K_bi (K_ii^-1 X_B),
         // the last by a second solve, so the whole of `Psi` is never needed.
-        let mut psi_all = if options.keep_recovery { Some(Mat::<f64>::zeros(ni, nb)) } else { None };
+        // With `keep_recovery` the whole `Psi` is solved for first (one multi-right-hand-side
+        // solve) and `Psi^T X_B` is a product, as before the blocked path existed: the blade-pair
+        // stuck-limit test (tests/jp_blade_pair.rs) is sensitive to the difference.
         let all_i = identity_map(ni);
+        let psi_all = if options.keep_recovery {
+            let mut all = sparse_dense_block(&k_ib, &all_i, ni, &(0..nb).collect::<Vec<_>>());
+            chol.solve_in_place(all.as_mut());
+            all *= faer::Scale(-1.0);
+            Some(all)
+        } else {
+            None
+        };
         let mut start = 0;
         while start < nb {
             let w = BLOCK.min(nb - start);
             let cols: Vec<usize> = (start..start + w).collect();
-            let mut psi = sparse_dense_block(&k_ib, &all_i, ni, &cols);
-            chol.solve_in_place(psi.as_mut());
-            psi *= faer::Scale(-1.0);
+            let psi = match &psi_all {
+                Some(all) => all.as_ref().subcols(start, w).to_owned(),
+                None => {
+                    let mut psi = sparse_dense_block(&k_ib, &all_i, ni, &cols);
+                    chol.solve_in_place(psi.as_mut());
+                    psi *= faer::Scale(-1.0);
+                    psi
+                }
+            };
             let mut x = sparse_dense_block(&m_ib, &all_i, ni, &cols);
             faer::sparse::linalg::matmul::sparse_dense_matmul(x.as_mut(), Accum::Add, m_ii.as_ref(), psi.as_ref(), 1.0, par);
             faer::sparse::linalg::matmul::sparse_dense_matmul(
@@ -165,19 +181,21 @@ impl CraigBampton {
                 1.0,
                 par,
             );
-            if let Some(all) = psi_all.as_mut() {
-                all.as_mut().subcols_mut(start, w).copy_from(&psi);
-            }
             drop(psi);
-            chol.solve_in_place(x.as_mut());
-            faer::sparse::linalg::matmul::sparse_dense_matmul(
-                m_red.as_mut().submatrix_mut(0, start, nb, w),
-                Accum::Add,
-                k_ib.as_ref().transpose(),
-                x.as_ref(),
-                -1.0,
-                par,
-            );
+            match &psi_all {
+                Some(all) => matmul(m_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
+                None => {
+                    chol.solve_in_place(x.as_mut());
+                    faer::sparse::linalg::matmul::sparse_dense_matmul(
+                        m_red.as_mut().submatrix_mut(0, start, nb, w),
+                        Accum::Add,
+                        k_ib.as_ref().transpose(),
+                        x.as_ref(),
+                        -1.0,
+                        par,
+                    );
+                }
+            }
             start += w;
         }
         drop(chol);
