@@ -100,23 +100,7 @@ impl<'a> CondensedProblem<'a> {
         if g_ww.nrows() != nw || g_ww.ncols() != nw {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
-        let nj = 2 * hh;
-        // K̂ is block-diagonal by contact (checked): the products cost O(n_w^2), not O(n_w^3).
-        let (laws, offsets) = (&coords.laws, &coords.offsets);
-        let per_contact = k_hat.is_per_contact(laws, offsets);
-        let mut s = Mat::<f64>::zeros(nj * nw, nj * nw);
-        for ci in 1..=nj {
-            let left = if per_contact { k_hat.block_times(ci, 0, g_ww.as_ref(), laws, offsets) } else { k_hat.block(ci, 0) * g_ww };
-            for cj in 1..=nj {
-                let corr = if per_contact { k_hat.times_block(left.as_ref(), 0, cj, laws, offsets) } else { &left * k_hat.block(0, cj) };
-                let kij = k_hat.block(ci, cj);
-                for j in 0..nw {
-                    for i in 0..nw {
-                        s[((ci - 1) * nw + i, (cj - 1) * nw + j)] = kij[(i, j)] - corr[(i, j)];
-                    }
-                }
-            }
-        }
+        let s = super::modes::contact_condensation(coords, k_hat, g_ww);
         Ok(CondensedProblem { coords, harmonics: hh, s })
     }
 
