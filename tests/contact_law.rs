@@ -61,10 +61,13 @@ fn jenkins_matches_closed_form_and_converges_with_nt() {
         println!("{nt:>6} {:>12.6} {:>12.6} {e_w:>12.3e} {e_h:>12.3e}", f[1], f[2]);
         assert!(f[0].abs() < 1e-12, "no static force for a symmetric cycle");
         assert!(cycle.states.contains(&ContactState::Stick) && cycle.states.contains(&ContactState::Slip));
-        assert!(e_w < prev.0 && e_h < prev.1, "error must shrink as Nt grows");
+        // The energy is the slider force times the slip over the cycle; both turning points of
+        // u = a cos(theta) are samples, so the discrete slip is exact at every Nt.
+        assert!(e_w < 1e-12, "Nt = {nt}: energy error {e_w:.3e}");
+        assert!(e_h < prev.1, "first-harmonic error must shrink as Nt grows");
         prev = (e_w, e_h);
     }
-    assert!(prev.0 < 1e-4 && prev.1 < 1e-3, "Nt = 1024: errors {prev:?}");
+    assert!(prev.1 < 1e-3, "Nt = 1024: errors {prev:?}");
 }
 
 #[test]

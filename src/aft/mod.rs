@@ -37,8 +37,12 @@ pub const PERIODIC_TOLERANCE: f64 = 1e-12;
 pub struct ContactCycle {
     /// State at each of the `Nt` time samples (the "boundary condition" of §6).
     pub states: Vec<ContactState>,
-    /// Energy dissipated by friction per cycle, `W = closed integral of T . du`
-    /// (trapezoidal rule over the samples, so a fully stuck cycle gives `W = 0` exactly).
+    /// Energy dissipated by friction per cycle: the work of the friction force over the slip
+    /// increments, `W = sum over slipping samples of T . Kt^-1 (T* - T)` (the slip increment is
+    /// the part of `du` the tangential spring does not take, `Kt^-1 (T* - T)`). Each term is
+    /// `>= 0` (in slip `T` is `T*` scaled down), so `W >= 0`, `W = 0` exactly in full stick, and
+    /// for the Jenkins element under `u = a cos(w t)` it tends to `4 Fs (a - Fs / kt)` as the
+    /// samples get finer.
     pub dissipated_energy: f64,
 }
 
@@ -223,9 +227,11 @@ impl AftPlan {
             slip_map(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, g_tmp, &mut g_start[..n2], n);
         }
 
+        let mut dissipated = 0.0;
         for pass in 0..MAX_PASSES {
             let mut t_prev = t_start;
             let mut scale = norm2(t_start);
+            dissipated = 0.0;
             for j in 0..nt {
                 let jm = if j == 0 { nt - 1 } else { j - 1 };
                 let ts = p.predictor(t_prev, [u1[j] - u1[jm], u2[j] - u2[jm]]);
@@ -233,6 +239,9 @@ impl AftPlan {
                 tangential[j] = c.force[0];
                 tangential[nt + j] = c.force[1];
                 states[j] = c.state;
+                if c.state == ContactState::Slip {
+                    dissipated += p.slip_work(ts, c.force);
+                }
                 t_prev = c.force;
                 scale = scale.max(norm2(c.force));
                 if want_jac {
@@ -283,12 +292,7 @@ impl AftPlan {
         if let Some(cy) = cycle {
             cy.states.clear();
             cy.states.extend_from_slice(&states[..nt]);
-            let mut wd = 0.0;
-            for j in 0..nt {
-                let jm = if j == 0 { nt - 1 } else { j - 1 };
-                wd += 0.5 * (t1[j] + t1[jm]) * (u1[j] - u1[jm]) + 0.5 * (t2[j] + t2[jm]) * (u2[j] - u2[jm]);
-            }
-            cy.dissipated_energy = wd;
+            cy.dissipated_energy = dissipated;
         }
 
         if let Some(jac) = jac {
@@ -407,12 +411,18 @@ impl AftPlan {
                 g_start[k] = a0 * p.kt * basis[last * nc + k];
             }
         }
+        let mut dissipated = 0.0;
         for pass in 0..MAX_PASSES {
             let mut t_prev = t_start;
             let mut scale = t_start.abs();
+            dissipated = 0.0;
             for j in 0..nt {
                 let jm = if j == 0 { nt - 1 } else { j - 1 };
-                let (t, st, _) = p.correct(p.predictor(t_prev, u[j] - u[jm]));
+                let ts = p.predictor(t_prev, u[j] - u[jm]);
+                let (t, st, _) = p.correct(ts);
+                if st == ContactState::Slip {
+                    dissipated += p.slip_work(ts, t);
+                }
                 tangential[j] = t;
                 states[j] = st;
                 t_prev = t;
@@ -443,12 +453,7 @@ impl AftPlan {
         if let Some(cy) = cycle {
             cy.states.clear();
             cy.states.extend_from_slice(&states[..nt]);
-            let mut wd = 0.0;
-            for j in 0..nt {
-                let jm = if j == 0 { nt - 1 } else { j - 1 };
-                wd += 0.5 * (t[j] + t[jm]) * (u[j] - u[jm]);
-            }
-            cy.dissipated_energy = wd;
+            cy.dissipated_energy = dissipated;
         }
         if let Some(jac) = jac {
             if !f.use_fft {

@@ -30,6 +30,17 @@ impl Jenkins {
         t_prev + self.kt * du
     }
 
+    /// Work of the slider force `t` over the slip increment `(tstar - t) / kt` of one sample
+    /// (zero in stick, `>= 0` in slip).
+    #[inline]
+    pub fn slip_work(&self, tstar: f64, t: f64) -> f64 {
+        if self.kt > 0.0 {
+            (t * (tstar - t) / self.kt).max(0.0)
+        } else {
+            0.0
+        }
+    }
+
     /// Corrector: force, state and `dT/dT*` (1 in stick, 0 in slip).
     #[inline]
     pub fn correct(&self, tstar: f64) -> (f64, ContactState, f64) {

@@ -63,6 +63,20 @@ impl Friction3D {
         [t_prev[0] + self.kt[0] * du[0], t_prev[1] + self.kt[1] * du[1]]
     }
 
+    /// Work of the friction force `t` over the slip increment of one sample,
+    /// `t . Kt^-1 (tstar - t)` (zero in stick, where `t = tstar`; `>= 0` in slip, where `t` is
+    /// `tstar` scaled down). A direction without tangential stiffness takes no slip.
+    #[inline]
+    pub fn slip_work(&self, tstar: [f64; 2], t: [f64; 2]) -> f64 {
+        let mut w = 0.0;
+        for r in 0..2 {
+            if self.kt[r] > 0.0 {
+                w += t[r] * (tstar[r] - t[r]) / self.kt[r];
+            }
+        }
+        w.max(0.0)
+    }
+
     /// Corrector: projects the predictor `tstar` onto the friction cone of radius `mu N`.
     ///
     /// In slip, `dT/dT* = (mu N / |T*|) (I - e e^T)` and `dT/dN = mu e`, `e = T* / |T*|`.
