@@ -1,31 +1,70 @@
 //! Pseudo-arclength continuation of HBM solutions over a frequency band.
 //!
-//! Unknowns `y = (z, omega)`, arclength measured in the metric
+//! Unknowns `y = (z, omega)`; arclength is measured in the scaled metric
 //! `|dy|^2 = |dz|^2 / z_ref^2 + domega^2 / span^2` (see [`SweepOptions`]).
 //!
-//! * **Tangent** `t` at a converged point: null vector of `[J_z  dR/domega]`, from the
-//!   bordered system `[J_z  R_omega; t_prev^T S] t = [0; 1]`, normalised to unit length (the
-//!   last row keeps the direction of travel, also through folds, where `J_z` is singular).
+//! * **Tangent** `t` at a converged point: the null vector of `[J_z  dR/domega]`, from the
+//!   bordered system `[J_z  R_omega; (S t_prev)^T] t = [0; 1]`, normalised to unit length. The
+//!   last row orients `t` along the previous tangent (`t_prev^T S t > 0`), so the direction of
+//!   travel never reverses on its own, also through folds, where `J_z` is singular.
 //!   `dR/domega = (D(omega + delta) - D(omega - delta)) z / (2 delta) - (f(+) - f(-)) / (2 delta)`
 //!   by a central difference of [`HarmonicSystem::linear_part`] (`delta = omega_difference *
 //!   omega`); contact forces do not depend on `omega` (rate-independent friction). For the full
 //!   system `D` is quadratic in `omega`, so the difference is exact up to rounding.
 //! * **Predictor** `y_p = y + ds t`.
-//! * **Corrector**: Newton on `R(z, omega) = 0`, `t^T S (y - y_p) = 0` with the bordered
-//!   Jacobian. Converged when `|R| <= tol f_ref` as in [`super::solve_point`].
-//! * **Step control**: a corrector that fails (too many iterations, singular matrix, non-finite
-//!   residual) halves `ds`; below `min_step` the sweep ends with [`SweepEnd::StepTooSmall`].
-//!   After a success `ds *= clamp(target / iterations, 1/2, 2)`, within `[min_step, max_step]`.
-//! * The point that passes `omega_end` is replaced by a fixed-frequency solve at `omega_end`.
+//! * **Corrector**: the trust-region Newton method of [`super::newton`] on
+//!   `R(z, omega) = 0`, `t^T S (y - y_p) = 0` (the bordered system). Where the branch turns so
+//!   sharply that this hyperplane misses it (a contact kink), the corrector retries on the
+//!   sphere `|y - y_k|_S = ds` around the last point, forward only.
+//! * **Direction**: the first step follows the tangent; every later one the last chord
+//!   `y_k - y_{k-1}` (a secant predictor). On a branch made of many short smooth pieces (each
+//!   AFT sample switching between stick and slip is a kink) the one-sided tangents zigzag
+//!   while the chords follow the branch.
+//! * **Acceptance**: a corrected point must lie ahead of the last one along the direction
+//!   (`d^T S (y - y_k) > 0`), so points are strictly ordered along the arclength and the branch
+//!   is never retraced. A chord that turns by more than [`sharp_turn`] from the last one is
+//!   retried at half the length (at most [`MAX_ANGLE_RETRIES`] times, so that a true corner of
+//!   the branch, where a contact changes state, is passed).
+//! * **Step control**: after a success `ds` is scaled by the smaller of
+//!   `target_iterations / iterations` and `max_angle / (2 angle)` (the angle between successive
+//!   chords), each clamped to `[1/2, 2]`, within `[min_step, max_step]`, and capped so that
+//!   `omega` moves by at most `max_omega_step` of the band; a failed corrector halves `ds`.
+//! * **Restart**: when `ds` falls below `min_step` (a corrector that cannot settle on a kink),
+//!   the sweep tries to step over it at fixed frequency: the point solver at a slightly larger
+//!   frequency (`1e-4`, `1e-3`, then `1e-2` of the band ahead) from the last point, kept if it
+//!   converges close to it; the frequency it restarted from is recorded in
+//!   [`SweepResult::restarts`] (at most [`MAX_RESTARTS`]). Otherwise the sweep ends with
+//!   [`SweepEnd::StepTooSmall`] and the corrector's last error.
+//! * **Folds**: where the tangent's frequency component changes sign the branch turns back in
+//!   frequency; the fold's frequency is recorded in [`SweepResult::folds`].
+//! * The point that passes `omega_end` is replaced by a fixed-frequency solve at `omega_end`
+//!   (kept as it is if that solve fails: it is converged, just past the end).
 
+use super::newton::{self, NewtonSettings, NonlinearProblem};
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
-use super::solve::{finish_point, lu_checked, lu_solve, newton, plan_for, reference_force, NewtonOutcome};
-use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
+use super::solve::{finish_point, newton, plan_for, reference_force, EquilibratedLu, NewtonOutcome};
+use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
 use crate::linalg::norm2;
 use faer::Mat;
 use std::ops::ControlFlow;
+
+/// Most retries of one step at half the length because its tangent turned by more than
+/// [`SweepOptions::max_angle`]; past them the step is taken (a corner of the branch).
+pub(crate) const MAX_ANGLE_RETRIES: usize = 4;
+
+/// Most restarts over a kink per sweep (see the module doc).
+pub(crate) const MAX_RESTARTS: usize = 10;
+
+/// The turn between successive chords above which a step is retried shorter: three times
+/// `max_angle`, at least 0.5 rad.
+pub(crate) fn sharp_turn(sopts: &SweepOptions) -> f64 {
+    (3.0 * sopts.max_angle).max(0.5)
+}
+
+/// Tolerance on the arclength constraint, relative to the step.
+const CONSTRAINT_TOLERANCE: f64 = 1e-8;
 
 /// `dR/domega` at `(z, omega)` by a central difference of the linear part with step `delta`
 /// (the contact forces do not depend on `omega`).
@@ -41,31 +80,8 @@ pub fn residual_omega_derivative(system: &dyn HarmonicSystem, omega: f64, z: &[f
     Ok(rp.iter().zip(&rm).map(|(a, b)| (a - b) / (2.0 * delta)).collect())
 }
 
-/// Residual, `J_z`, `R_omega` and reference force at one `(z, omega)`.
-struct Linearisation {
-    r: Vec<f64>,
-    jz: Mat<f64>,
-    r_omega: Vec<f64>,
-    f_ref: f64,
-}
-
-fn linearise(
-    system: &dyn HarmonicSystem,
-    plan: Option<&AftPlan>,
-    z: &[f64],
-    omega: f64,
-    sopts: &SweepOptions,
-    ws: &mut ResidualWorkspace,
-) -> Result<Linearisation> {
-    let lin: LinearPart = system.linear_part(omega)?;
-    let (r, jz) = evaluate(system, &lin, plan, z, true, ws)?;
-    let f_ref = reference_force(&lin, ws.contact_force_norm(), norm2(&r));
-    let r_omega = residual_omega_derivative(system, omega, z, sopts.omega_difference * omega)?;
-    Ok(Linearisation { r, jz: jz.expect("jacobian requested"), r_omega, f_ref })
-}
-
 /// Metric weights: `|dz|^2 sz + domega^2 sw`.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Metric {
     sz: f64,
     sw: f64,
@@ -76,138 +92,170 @@ impl Metric {
         let n = a.len() - 1;
         self.sz * (0..n).map(|i| a[i] * b[i]).sum::<f64>() + self.sw * a[n] * b[n]
     }
+    /// `S v`.
+    fn apply(&self, v: &[f64]) -> Vec<f64> {
+        let n = v.len() - 1;
+        v.iter().enumerate().map(|(i, x)| if i < n { self.sz * x } else { self.sw * x }).collect()
+    }
+    fn unit(&self, v: &[f64]) -> Option<Vec<f64>> {
+        let len = self.dot(v, v).sqrt();
+        (len.is_finite() && len > 0.0).then(|| v.iter().map(|x| x / len).collect())
+    }
 }
 
-/// The bordered matrix `[J_z  R_omega; t^T S]`.
-fn bordered(lz: &Linearisation, t: &[f64], m: Metric) -> Mat<f64> {
-    let n = lz.r.len();
-    Mat::from_fn(n + 1, n + 1, |i, j| {
-        if i < n {
-            if j < n {
-                lz.jz[(i, j)]
-            } else {
-                lz.r_omega[i]
-            }
-        } else if j < n {
-            m.sz * t[j]
-        } else {
-            m.sw * t[n]
-        }
-    })
+/// `[J_z  R_omega]` at a point (rows divided by the reference force, which changes neither the
+/// tangent nor the corrector's Newton step).
+struct Linearisation {
+    top: Mat<f64>,
 }
 
-/// Unit tangent at a linearised point, oriented along `t_prev`.
-fn tangent(lz: &Linearisation, t_prev: &[f64], m: Metric, omega: f64) -> Result<Vec<f64>> {
-    let n = lz.r.len();
-    let b = bordered(lz, t_prev, m);
-    let lu = lu_checked(&b, &format!("continuation tangent system at omega = {omega}"))?;
+/// Unit tangent (in the metric) of the branch whose linearisation is `lz`, oriented so that
+/// `orient^T S t > 0`.
+fn tangent(lz: &Linearisation, orient: &[f64], m: Metric, omega: f64) -> Result<Vec<f64>> {
+    let n = lz.top.nrows();
+    let row = m.apply(orient);
+    let b = Mat::from_fn(n + 1, n + 1, |i, j| if i < n { lz.top[(i, j)] } else { row[j] });
+    let lu = EquilibratedLu::new(&b, &format!("continuation tangent system at omega = {omega}"))?;
     let mut rhs = vec![0.0; n + 1];
     rhs[n] = 1.0;
-    let t = lu_solve(&lu, &rhs);
-    let len = m.dot(&t, &t).sqrt();
-    if !(len.is_finite() && len > 0.0) {
-        return Err(JpError::singular(format!("continuation tangent at omega = {omega}")));
-    }
-    Ok(t.iter().map(|v| v / len).collect())
+    m.unit(&lu.solve(&rhs)).ok_or_else(|| JpError::singular(format!("continuation tangent at omega = {omega}")))
 }
 
-/// A converged corrector: the point and its linearisation (reused for the next tangent).
+/// The arclength constraint of the corrector.
+#[derive(Clone, Copy)]
+enum Constraint<'a> {
+    /// `t^T S (y - y_p) = 0`.
+    Hyperplane { t: &'a [f64], y_pred: &'a [f64] },
+    /// `|y - y_c|_S^2 = ds^2`.
+    Sphere { centre: &'a [f64] },
+}
+
+/// The bordered system `[R(z, omega); g(y) / ds]` of the corrector.
+struct Corrector<'a> {
+    system: &'a dyn HarmonicSystem,
+    plan: Option<&'a AftPlan>,
+    sopts: &'a SweepOptions,
+    ws: &'a mut ResidualWorkspace,
+    metric: Metric,
+    constraint: Constraint<'a>,
+    ds: f64,
+    f_ref: Option<f64>,
+}
+
+impl Corrector<'_> {
+    /// `R / f_ref` and `[J_z  R_omega] / f_ref` at `y` (`f_ref` fixed at the first call).
+    fn linearise(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+        let n = y.len() - 1;
+        let omega = y[n];
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
+        }
+        let lin = self.system.linear_part(omega)?;
+        let (mut r, jz) = evaluate(self.system, &lin, self.plan, &y[..n], want_jacobian, self.ws)?;
+        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(&lin, self.ws.contact_force_norm(), norm2(&r)));
+        let s = 1.0 / f_ref;
+        r.iter_mut().for_each(|v| *v *= s);
+        if !norm2(&r).is_finite() {
+            return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
+        }
+        let top = match jz {
+            Some(jz) => {
+                let r_omega = residual_omega_derivative(self.system, omega, &y[..n], self.sopts.omega_difference * omega)?;
+                Some(Mat::from_fn(n, n + 1, |i, j| s * if j < n { jz[(i, j)] } else { r_omega[i] }))
+            }
+            None => None,
+        };
+        Ok((r, top))
+    }
+}
+
+impl NonlinearProblem for Corrector<'_> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+        let n = y.len() - 1;
+        let (mut r, top) = self.linearise(y, want_jacobian)?;
+        let (g, row) = match self.constraint {
+            Constraint::Hyperplane { t, y_pred } => {
+                let st = self.metric.apply(t);
+                ((0..=n).map(|i| st[i] * (y[i] - y_pred[i])).sum::<f64>(), st)
+            }
+            Constraint::Sphere { centre } => {
+                let d: Vec<f64> = (0..=n).map(|i| y[i] - centre[i]).collect();
+                (self.metric.dot(&d, &d) - self.ds * self.ds, self.metric.apply(&d).iter().map(|v| 2.0 * v).collect())
+            }
+        };
+        r.push(g / self.ds);
+        let jac = top.map(|top| Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { row[j] / self.ds }));
+        Ok((r, jac))
+    }
+    fn converged(&self, r: &[f64], tolerance: f64) -> bool {
+        let n = r.len() - 1;
+        norm2(&r[..n]) <= tolerance && r[n].abs() <= CONSTRAINT_TOLERANCE
+    }
+    fn what(&self) -> String {
+        "continuation corrector".into()
+    }
+}
+
+/// A converged corrector: the point, the iterations used and the residual `|R| / f_ref`.
 struct Corrected {
     y: Vec<f64>,
-    lz: Linearisation,
     iterations: usize,
+    residual: f64,
 }
 
 #[allow(clippy::too_many_arguments)]
 fn correct(
     system: &dyn HarmonicSystem,
     plan: Option<&AftPlan>,
-    y_pred: &[f64],
-    t: &[f64],
+    y0: &[f64],
+    constraint: Constraint<'_>,
+    ds: f64,
     m: Metric,
     sopts: &SweepOptions,
     hopts: &HbmOptions,
     ws: &mut ResidualWorkspace,
-    sphere: Option<(&[f64], f64)>,
 ) -> Result<Corrected> {
-    let n = y_pred.len() - 1;
-    let mut y = y_pred.to_vec();
-    let mut iterations = 0;
-    let mut lz = linearise_checked(system, plan, &y, sopts, ws)?;
-    loop {
-        let omega = y[n];
-        let rel = norm2(&lz.r) / lz.f_ref;
-        if rel <= hopts.residual_tolerance {
-            return Ok(Corrected { y, lz, iterations });
+    let omega = y0[y0.len() - 1];
+    let mut problem = Corrector { system, plan, sopts, ws, metric: m, constraint, ds, f_ref: None };
+    let settings = NewtonSettings {
+        tolerance: hopts.residual_tolerance,
+        step_tolerance: hopts.step_tolerance,
+        // a point's budget bounds the corrector too
+        max_iterations: sopts.max_corrector_iterations.min(hopts.max_iterations),
+        trust_region: true,
+        initial_radius_factor: 1.0,
+        scaling: hopts.scaling,
+    };
+    match newton::solve(&mut problem, y0.to_vec(), &settings) {
+        Ok(c) => {
+            let n = c.x.len() - 1;
+            Ok(Corrected { residual: norm2(&c.residual[..n]), y: c.x, iterations: c.iterations })
         }
-        if iterations >= sopts.max_corrector_iterations {
-            return Err(JpError::NoConvergence {
+        Err(f) => Err(match f.error {
+            JpError::NoConvergence { iterations, residual, .. } => JpError::NoConvergence {
                 what: format!("continuation corrector near omega = {omega}"),
                 iterations,
-                residual: rel,
-            });
-        }
-        // Constraint: the pseudo-arclength hyperplane `t . S (y - y_pred) = 0`, or the sphere
-        // `|y - y_c|_S^2 = r^2` around the previous point, which still cuts the branch where it
-        // turns by more than a right angle (a sharp fold made by a contact kink).
-        let (row, g) = match sphere {
-            None => {
-                let dy: Vec<f64> = (0..=n).map(|i| y[i] - y_pred[i]).collect();
-                (t.to_vec(), m.dot(t, &dy))
-            }
-            Some((yc, radius)) => {
-                let d: Vec<f64> = (0..=n).map(|i| y[i] - yc[i]).collect();
-                (d.iter().map(|v| 2.0 * v).collect(), m.dot(&d, &d) - radius * radius)
-            }
-        };
-        let b = bordered(&lz, &row, m);
-        let lu = lu_checked(&b, &format!("bordered continuation Jacobian at omega = {omega}"))?;
-        let mut rhs: Vec<f64> = lz.r.iter().map(|v| -v).collect();
-        rhs.push(-g);
-        let step = lu_solve(&lu, &rhs);
-        // Backtracking: contact laws make the residual piecewise smooth, and a full Newton
-        // step can jump back and forth across a kink (a time sample opening or closing, a
-        // contact entering slip). Halve the step while it does not reduce the residual.
-        let mut alpha = 1.0;
-        loop {
-            let trial: Vec<f64> = (0..=n).map(|i| y[i] + alpha * step[i]).collect();
-            let tz = linearise_checked(system, plan, &trial, sopts, ws);
-            let accept = match &tz {
-                Ok(l) => norm2(&l.r) / l.f_ref < rel || alpha <= 1.0 / 16.0,
-                Err(_) => false,
-            };
-            if accept {
-                y = trial;
-                lz = tz?;
-                break;
-            }
-            if alpha <= 1.0 / 16.0 {
-                return Err(tz.err().unwrap_or_else(|| JpError::invalid("continuation", "corrector line search failed")));
-            }
-            alpha *= 0.5;
-        }
-        iterations += 1;
+                residual,
+            },
+            other => other,
+        }),
     }
 }
 
-/// [`linearise`] at `y = [z; omega]`, rejecting a non-positive frequency or a non-finite residual.
-fn linearise_checked(
-    system: &dyn HarmonicSystem,
-    plan: Option<&AftPlan>,
-    y: &[f64],
-    sopts: &SweepOptions,
-    ws: &mut ResidualWorkspace,
-) -> Result<Linearisation> {
+/// Steps over a kink at fixed frequency: the point solver at `omega + f span` for `f` = 1e-4,
+/// 1e-3, 1e-2 (`signed_span` carries the sweep's direction) from the last point `y`; the first
+/// solution within half of `z_ref` of it, with `[z; omega]`.
+fn restart(system: &dyn HarmonicSystem, y: &[f64], signed_span: f64, z_ref: f64, hopts: &HbmOptions) -> Option<(PointSolution, Vec<f64>)> {
     let n = y.len() - 1;
-    let omega = y[n];
-    if !(omega.is_finite() && omega > 0.0) {
-        return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
-    }
-    let lz = linearise(system, plan, &y[..n], omega, sopts, ws)?;
-    if !(norm2(&lz.r) / lz.f_ref).is_finite() {
-        return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
-    }
-    Ok(lz)
+    [1e-4, 1e-3, 1e-2].iter().find_map(|f| {
+        let omega = y[n] + f * signed_span;
+        let p = super::solve_point(system, omega, Some(&y[..n]), hopts).ok()?;
+        let jump = norm2(&p.z.iter().zip(&y[..n]).map(|(a, b)| a - b).collect::<Vec<_>>());
+        (jump <= 0.5 * z_ref).then(|| {
+            let y_new = p.z.iter().copied().chain([omega]).collect();
+            (p, y_new)
+        })
+    })
 }
 
 /// Norm of the harmonic (`h >= 1`) part of `z`, or of all of `z` if that vanishes, or 1.
@@ -232,12 +280,28 @@ fn characteristic_displacement(system: &dyn HarmonicSystem, z: &[f64]) -> f64 {
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the first point's solve error (the sweep has no
-/// point then). Later failures end the sweep with [`SweepEnd::StepTooSmall`] and the error in
-/// [`SweepResult::error`], keeping the points found.
+/// point then). Later failures end the sweep with a reason ([`SweepResult::end`],
+/// [`SweepResult::failure`]), keeping the points found.
 pub fn sweep(
     system: &dyn HarmonicSystem,
     sopts: &SweepOptions,
     hopts: &HbmOptions,
+    on_point: &mut dyn FnMut(&PointSolution) -> ControlFlow<()>,
+) -> Result<SweepResult> {
+    sweep_from(system, sopts, hopts, None, on_point)
+}
+
+/// [`sweep`] whose first point at `sopts.omega_start` is solved from the guess `start` (for
+/// example the `z` of a converged solution at that frequency, to restart a sweep or to follow
+/// another branch) instead of from zero.
+///
+/// # Errors
+/// As [`sweep`]; [`JpError::BadSize`] if `start` does not fit the system.
+pub fn sweep_from(
+    system: &dyn HarmonicSystem,
+    sopts: &SweepOptions,
+    hopts: &HbmOptions,
+    start: Option<&[f64]>,
     on_point: &mut dyn FnMut(&PointSolution) -> ControlFlow<()>,
 ) -> Result<SweepResult> {
     sopts.validate()?;
@@ -256,71 +320,84 @@ pub fn sweep(
     let direction = (w1 - w0).signum();
     let span = (w1 - w0).abs();
 
-    let mut result = SweepResult {
-        points: Vec::new(),
-        rejected_steps: 0,
-        end: SweepEnd::ReachedEnd,
-        stopped_early: false,
-        failure: None,
-        error: None,
-    };
-    let finish = |mut res: SweepResult, end: SweepEnd, error: Option<JpError>| {
+    let mut result = SweepResult::empty();
+    let finish = |mut res: SweepResult, end: SweepEnd, failure: Option<String>, error: Option<JpError>| {
         res.end = end;
         res.stopped_early = end != SweepEnd::ReachedEnd;
-        res.failure = error.as_ref().map(|e| e.to_string());
+        res.failure = failure.or_else(|| error.as_ref().map(|e| e.to_string()));
         res.error = error;
         res
     };
+    let at = |omega: f64| format!("at omega = {omega:.6} rad/s ({:.1} % of the band [{w0}, {w1}])", 100.0 * (omega - w0) / (w1 - w0));
 
     // First point at omega_start, with the point solver's load-stepping fallback (a reduced
     // model regenerated mid-workflow can leave Newton from zero stuck at a local minimum).
-    let first = super::solve_point(system, w0, None, hopts)?;
+    let first = super::solve_point(system, w0, start, hopts)?;
     let mut z_ref = characteristic_displacement(system, &first.z);
     let mut y: Vec<f64> = first.z.iter().copied().chain([w0]).collect();
     let stop = on_point(&first).is_break();
     result.points.push(first);
     if stop {
-        return Ok(finish(result, SweepEnd::StoppedByCaller, None));
+        return Ok(finish(result, SweepEnd::StoppedByCaller, Some(format!("stopped by the caller {}", at(w0))), None));
     }
 
     let mut metric = Metric { sz: 1.0 / (z_ref * z_ref), sw: 1.0 / (span * span) };
-    let mut t_prev = vec![0.0; n + 1];
-    t_prev[n] = direction * span;
-    let mut lz = linearise(system, plan, &y[..n], w0, sopts, &mut ws)?;
-    let mut ds = sopts.initial_step;
-    let mut last_error: Option<JpError> = None;
+    // First direction: the tangent, oriented towards omega_end; then the last chord.
+    let mut orient = vec![0.0; n + 1];
+    orient[n] = direction * span;
+    let mut dir = {
+        let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+        let (_, top) = c.linearise(&y, true)?;
+        tangent(&Linearisation { top: top.expect("jacobian requested") }, &orient, metric, w0)?
+    };
+    let mut ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
     loop {
         if result.points.len() >= sopts.max_points {
-            return Ok(finish(result, SweepEnd::MaxPoints, None));
+            let omega = y[n];
+            let text = format!("stopped at the point cap (max_points = {}) {}", sopts.max_points, at(omega));
+            return Ok(finish(result, SweepEnd::MaxPoints, Some(text), None));
         }
         let omega = y[n];
-        let t = match tangent(&lz, &t_prev, metric, omega) {
-            Ok(t) => t,
-            Err(e) => return Ok(finish(result, SweepEnd::StepTooSmall, Some(e))),
-        };
-        // Predict, correct; halve the step until the corrector converges.
-        let corrected = loop {
+        // No step moves the frequency by more than max_omega_step of the band.
+        let dir_omega = (metric.sw * dir[n] * dir[n]).sqrt();
+        if dir_omega > 0.0 {
+            ds = ds.min(sopts.max_omega_step / dir_omega);
+        }
+        ds = ds.max(sopts.min_step);
+        let mut last_error: Option<JpError> = None;
+        let mut angle_retries = 0;
+        let (corrected, chord, angle) = loop {
             if ds < sopts.min_step {
-                let e = last_error.take().unwrap_or_else(|| JpError::NoConvergence {
-                    what: "continuation".into(),
-                    iterations: 0,
-                    residual: f64::NAN,
-                });
-                return Ok(finish(result, SweepEnd::StepTooSmall, Some(e)));
-            }
-            let y_pred: Vec<f64> = (0..=n).map(|i| y[i] + ds * t[i]).collect();
-            let attempt = correct(system, plan, &y_pred, &t, metric, sopts, hopts, &mut ws, None).or_else(|e| {
-                // fallback: the sphere of radius ds around the current point, forward only
-                let c = correct(system, plan, &y_pred, &t, metric, sopts, hopts, &mut ws, Some((&y, ds))).map_err(|_| e.clone())?;
-                let d: Vec<f64> = (0..=n).map(|i| c.y[i] - y[i]).collect();
-                if metric.dot(&t, &d) > 0.0 {
-                    Ok(c)
-                } else {
-                    Err(e)
+                // Step over the kink at fixed frequency, or give up.
+                let jump = if result.restarts.len() < MAX_RESTARTS { restart(system, &y, direction * span, z_ref, hopts) } else { None };
+                match jump {
+                    Some((p, y_new)) => break (Corrected { y: y_new, iterations: p.iterations, residual: p.residual_norm }, Vec::new(), 0.0),
+                    None => {
+                        let e = last_error.take().unwrap_or_else(|| JpError::NoConvergence { what: "continuation".into(), iterations: 0, residual: f64::NAN });
+                        let text = format!("stalled {}: the step fell below min_step = {:e}; last corrector error: {e}", at(omega), sopts.min_step);
+                        return Ok(finish(result, SweepEnd::StepTooSmall, Some(text), Some(e)));
+                    }
                 }
+            }
+            let y_pred: Vec<f64> = (0..=n).map(|i| y[i] + ds * dir[i]).collect();
+            let attempt = correct(system, plan, &y_pred, Constraint::Hyperplane { t: &dir, y_pred: &y_pred }, ds, metric, sopts, hopts, &mut ws).or_else(|e| {
+                correct(system, plan, &y_pred, Constraint::Sphere { centre: &y }, ds, metric, sopts, hopts, &mut ws).map_err(|_| e)
             });
-            match attempt {
-                Ok(c) => break c,
+            let verdict = attempt.and_then(|c| {
+                let d: Vec<f64> = (0..=n).map(|i| c.y[i] - y[i]).collect();
+                let chord = metric.unit(&d).filter(|u| metric.dot(&dir, u) > 0.0).ok_or_else(|| {
+                    JpError::invalid("continuation", format!("the corrector went back along the branch near omega = {}", c.y[n]))
+                })?;
+                let angle = metric.dot(&dir, &chord).clamp(-1.0, 1.0).acos();
+                Ok((c, chord, angle))
+            });
+            match verdict {
+                Ok((_, _, angle)) if angle > sharp_turn(sopts) && angle_retries < MAX_ANGLE_RETRIES && 0.5 * ds >= sopts.min_step => {
+                    angle_retries += 1;
+                    result.rejected_steps += 1;
+                    ds *= 0.5;
+                }
+                Ok(v) => break v,
                 Err(e) => {
                     last_error = Some(e);
                     result.rejected_steps += 1;
@@ -328,46 +405,56 @@ pub fn sweep(
                 }
             }
         };
-        let iters = corrected.iterations.max(1) as f64;
-        let factor = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);
-        ds = (ds * factor).clamp(sopts.min_step, sopts.max_step);
+        let restarted = chord.is_empty();
+        let chord = if restarted {
+            // after a restart: the tangent at the new point, oriented along the last direction
+            result.restarts.push(omega);
+            ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
+            let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+            let (_, top) = c.linearise(&corrected.y, true)?;
+            tangent(&Linearisation { top: top.expect("jacobian requested") }, &dir, metric, corrected.y[n])?
+        } else {
+            let iters = corrected.iterations.max(1) as f64;
+            let f_iter = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);
+            let f_angle = if angle > 0.0 { (0.5 * sopts.max_angle / angle).clamp(0.5, 2.0) } else { 2.0 };
+            ds = (ds * f_iter.min(f_angle)).clamp(sopts.min_step, sopts.max_step);
+            chord
+        };
         let new_omega = corrected.y[n];
+        if dir[n] * chord[n] < 0.0 {
+            result.folds.push(omega);
+        }
         if (new_omega - w0) * direction < -LEFT_BAND_MARGIN * span {
-            return Ok(finish(result, SweepEnd::LeftBand, None));
+            let text = format!("the branch turned back and left the band behind omega_start {}", at(new_omega));
+            return Ok(finish(result, SweepEnd::LeftBand, Some(text), None));
         }
         let passed_end = (new_omega - w1) * direction >= 0.0;
-        let point = if passed_end {
+        let converged = NewtonOutcome { z: corrected.y[..n].to_vec(), iterations: corrected.iterations, residual: corrected.residual };
+        let outcome = if passed_end {
             // Fixed-frequency solve at omega_end from the interpolated guess.
             let s = (w1 - omega) / (new_omega - omega);
             let guess: Vec<f64> = (0..n).map(|i| y[i] + s * (corrected.y[i] - y[i])).collect();
             let lin = system.linear_part(w1)?;
-            match newton(system, &lin, plan, guess, hopts, w1, &mut ws) {
-                Ok(o) => Some(finish_point(system, plan, w1, o, &mut ws)?),
-                Err(_) => None,
+            match newton(system, &lin, plan, guess, hopts, hopts.max_iterations, w1, &mut ws) {
+                Ok(o) => (w1, o),
+                Err(_) => (new_omega, converged),
             }
         } else {
-            let out = NewtonOutcome {
-                z: corrected.y[..n].to_vec(),
-                iterations: corrected.iterations,
-                residual: norm2(&corrected.lz.r) / corrected.lz.f_ref,
-            };
-            Some(finish_point(system, plan, new_omega, out, &mut ws)?)
+            (new_omega, converged)
         };
-        if let Some(p) = point {
-            let stop = on_point(&p).is_break();
-            z_ref = z_ref.max(characteristic_displacement(system, &p.z));
-            result.points.push(p);
-            if stop {
-                return Ok(finish(result, SweepEnd::StoppedByCaller, None));
-            }
+        let p = finish_point(system, plan, outcome.0, outcome.1, &mut ws)?;
+        let stop = on_point(&p).is_break();
+        z_ref = z_ref.max(characteristic_displacement(system, &p.z));
+        let point_omega = p.omega;
+        result.points.push(p);
+        if stop {
+            return Ok(finish(result, SweepEnd::StoppedByCaller, Some(format!("stopped by the caller {}", at(point_omega))), None));
         }
         if passed_end {
-            return Ok(finish(result, SweepEnd::ReachedEnd, None));
+            return Ok(finish(result, SweepEnd::ReachedEnd, None, None));
         }
         metric = Metric { sz: 1.0 / (z_ref * z_ref), sw: metric.sw };
-        t_prev = t;
+        dir = metric.unit(&chord).ok_or_else(|| JpError::singular("continuation chord"))?;
         y = corrected.y;
-        lz = corrected.lz;
-        last_error = None;
     }
 }

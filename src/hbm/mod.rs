@@ -18,10 +18,11 @@ pub mod options;
 pub mod residual;
 pub mod solution;
 pub mod solve;
+mod newton;
 pub mod continuation;
 pub mod full;
 
-pub use continuation::sweep;
+pub use continuation::{sweep, sweep_from};
 pub use full::FullSystem;
 pub use layout::HarmonicLayout;
 pub use options::{default_nt, HbmOptions, SweepOptions};

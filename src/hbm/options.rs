@@ -17,7 +17,10 @@ pub struct HbmOptions {
     /// `step_tolerance * (1 + |scaled z|)` while the residual is still above tolerance
     /// (default `1e-14`).
     pub step_tolerance: f64,
-    /// Maximum Newton iterations (Jacobian evaluations) per point (default 50).
+    /// Most Newton iterations (Jacobian evaluations) per point, all attempts together: the
+    /// solve from the guess gets a quarter of them, the load-stepping fallback the rest
+    /// (default 400; a point that converges at all usually takes fewer than 10, but a reduced
+    /// model solved from zero near a resonance in partial slip was measured at 94).
     pub max_iterations: usize,
     /// Dogleg trust region on the scaled problem (default true). When false, plain Newton.
     pub trust_region: bool,
@@ -47,7 +50,7 @@ impl Default for HbmOptions {
             nt: None,
             residual_tolerance: 1e-10,
             step_tolerance: 1e-14,
-            max_iterations: 50,
+            max_iterations: 400,
             trust_region: true,
             initial_radius_factor: 1.0,
             scaling: true,
@@ -92,23 +95,34 @@ impl HbmOptions {
     }
 }
 
-/// Settings of the pseudo-arclength continuation over a frequency band.
+/// Settings of the pseudo-arclength continuation over a frequency band (see
+/// [`super::continuation`] for how they act).
 ///
 /// Arclength is measured on scaled variables: `omega / |omega_end - omega_start|` and
 /// `z / z_ref`, with `z_ref` the largest norm of the harmonic (`h >= 1`) part of `z` met so far
-/// on the branch. A step of 0.05 thus moves at most 5 % of the band in frequency.
+/// on the branch. A step of 0.05 thus moves at most 5 % of the band in frequency, or changes
+/// the response by at most 5 % of its largest value so far.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct SweepOptions {
     /// Start and end of the band (rad/s); the sweep goes from start towards end (either way).
     pub omega_start: f64,
     pub omega_end: f64,
-    /// First arclength step (default 0.02), smallest (default 1e-6) and largest (default 0.05).
+    /// First arclength step (default 0.02; clamped into `[min_step, max_step]`), smallest
+    /// (default 1e-6) and largest (default 0.1).
     pub initial_step: f64,
     pub min_step: f64,
     pub max_step: f64,
-    /// Most points on the branch, start included (default 2000).
+    /// Largest frequency increment of one step, as a fraction of the band (default 0.02: at
+    /// least 50 points across the band).
+    pub max_omega_step: f64,
+    /// Largest angle (radians) between the tangents at two successive points (default 0.15);
+    /// a step that turns more is retried shorter, and the step size aims at half of it.
+    pub max_angle: f64,
+    /// Most points on the branch, start included (default 5000).
     pub max_points: usize,
-    /// Corrector Newton iterations before a step is rejected and halved (default 12).
+    /// Corrector Newton iterations before a step is rejected and halved (default 12; never
+    /// more than [`HbmOptions::max_iterations`]).
     pub max_corrector_iterations: usize,
     /// Corrector iterations aimed at: the next step is scaled by `target / used`, clamped to
     /// `[0.5, 2]` (default 4).
@@ -124,8 +138,10 @@ impl Default for SweepOptions {
             omega_end: 0.0,
             initial_step: 0.02,
             min_step: 1e-6,
-            max_step: 0.05,
-            max_points: 2000,
+            max_step: 0.1,
+            max_omega_step: 0.02,
+            max_angle: 0.15,
+            max_points: 5000,
             max_corrector_iterations: 12,
             target_iterations: 4,
             omega_difference: 1e-6,
@@ -137,6 +153,13 @@ impl SweepOptions {
     /// A sweep over `[omega_start, omega_end]` with the default steps.
     pub fn band(omega_start: f64, omega_end: f64) -> Self {
         SweepOptions { omega_start, omega_end, ..Default::default() }
+    }
+
+    /// A sweep over the band aiming at about `points` points where the response is smooth
+    /// (`max_omega_step = 1 / points`); resonances and folds get more, set by `max_angle`.
+    pub fn with_points(omega_start: f64, omega_end: f64, points: usize) -> Self {
+        let points = points.max(1) as f64;
+        SweepOptions { max_omega_step: 1.0 / points, initial_step: (0.5 / points).max(1e-6), ..Self::band(omega_start, omega_end) }
     }
 
     /// Checks ranges.
@@ -152,8 +175,13 @@ impl SweepOptions {
         positive("SweepOptions.min_step", self.min_step)?;
         positive("SweepOptions.initial_step", self.initial_step)?;
         positive("SweepOptions.max_step", self.max_step)?;
-        if !(self.min_step <= self.initial_step && self.initial_step <= self.max_step) {
-            return Err(JpError::invalid("SweepOptions steps", "need min_step <= initial_step <= max_step"));
+        if self.min_step > self.max_step {
+            return Err(JpError::invalid("SweepOptions.min_step", format!("must be <= max_step ({} > {})", self.min_step, self.max_step)));
+        }
+        positive("SweepOptions.max_omega_step", self.max_omega_step)?;
+        positive("SweepOptions.max_angle", self.max_angle)?;
+        if self.max_angle >= std::f64::consts::FRAC_PI_2 {
+            return Err(JpError::invalid("SweepOptions.max_angle", format!("must be below pi/2, got {}", self.max_angle)));
         }
         if self.max_points < 2 {
             return Err(JpError::invalid("SweepOptions.max_points", "must be >= 2"));

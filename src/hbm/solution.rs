@@ -75,7 +75,8 @@ pub const LEFT_BAND_MARGIN: f64 = 0.1;
 /// A branch of converged points from a pseudo-arclength sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepResult {
-    /// Converged points in branch order (frequency may go back and forth at folds).
+    /// Converged points in branch order, strictly ordered along the arclength (the frequency
+    /// goes back only past a fold in [`SweepResult::folds`]).
     pub points: Vec<PointSolution>,
     /// Continuation steps rejected (corrector failed) and retried with a smaller step.
     pub rejected_steps: usize,
@@ -83,9 +84,44 @@ pub struct SweepResult {
     pub end: SweepEnd,
     /// True unless the branch reached `omega_end`.
     pub stopped_early: bool,
-    /// For [`SweepEnd::StepTooSmall`]: the last corrector error, as text (kept for files).
+    /// Unless the sweep reached `omega_end`: why and where it stopped, in words (for
+    /// [`SweepEnd::StepTooSmall`] with the corrector's last error and residual).
     pub failure: Option<String>,
     /// For [`SweepEnd::StepTooSmall`]: the last corrector error (not serialised).
     #[serde(skip)]
     pub error: Option<JpError>,
+    /// Frequencies where the branch turned back in frequency (the tangent's frequency
+    /// component changed sign), in branch order.
+    #[serde(default)]
+    pub folds: Vec<f64>,
+    /// Frequencies from which the sweep stepped over a kink at fixed frequency because the
+    /// corrector could not settle there (see [`crate::hbm::continuation`]).
+    #[serde(default)]
+    pub restarts: Vec<f64>,
+}
+
+impl SweepResult {
+    /// No point yet; `end` is [`SweepEnd::ReachedEnd`] until set.
+    pub fn empty() -> Self {
+        SweepResult { points: Vec::new(), rejected_steps: 0, end: SweepEnd::ReachedEnd, stopped_early: false, failure: None, error: None, folds: Vec::new(), restarts: Vec::new() }
+    }
+
+    /// Whether the branch covered the band: it reached `omega_end`.
+    pub fn reached_end(&self) -> bool {
+        self.end == SweepEnd::ReachedEnd
+    }
+}
+
+impl SweepEnd {
+    /// A short name for tables and files (`reached_end`, `stalled`, `point_cap`, `left_band`,
+    /// `cancelled`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepEnd::ReachedEnd => "reached_end",
+            SweepEnd::StepTooSmall => "stalled",
+            SweepEnd::MaxPoints => "point_cap",
+            SweepEnd::LeftBand => "left_band",
+            SweepEnd::StoppedByCaller => "cancelled",
+        }
+    }
 }

@@ -1,16 +1,9 @@
-//! One frequency point: Newton's method with a dogleg trust region on the scaled problem
-//! (method.md §2).
-//!
-//! **Scaling.** With `f_ref` the reference force (see [`HbmOptions::residual_tolerance`]) and
-//! `d_j` the column norms of the Jacobian (kept as the running maximum over iterations, as in
-//! MINPACK), the solver works on `r̃ = r / f_ref` and `x̃_j = d_j z_j / f_ref`, so
-//! `J̃ = J diag(d)^-1` has unit columns. Both are invariant under a change of units of
-//! length or force: a solve takes the same steps in mm and N as in m and MN.
-//!
-//! **Trust region.** Dogleg between the Cauchy point and the Newton step in `x̃`, radius
-//! initialised to the first Newton step's length (so a linear system converges in one step),
-//! shrunk on poor agreement (`rho < 1/4`) and doubled on good agreement at the boundary.
+//! One frequency point (method.md §2): the HBM equations at fixed frequency solved by the
+//! trust-region Newton method of [`super::newton`], from a guess or from zero, with load
+//! stepping on the dynamic forcing as the fallback; and the small dense helpers the solvers
+//! share (checked LU, reference force).
 
+use super::newton::{self, NewtonSettings, NonlinearProblem, NotConverged};
 use super::residual::{self, evaluate, ResidualWorkspace};
 use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution};
 use crate::aft::AftPlan;
@@ -44,6 +37,41 @@ pub(crate) fn lu_checked(a: &Mat<f64>, what: &str) -> Result<PartialPivLu<f64>> 
         )));
     }
     Ok(lu)
+}
+
+/// LU of a row- and column-equilibrated copy of `a` (`B = R A C` with `C` scaling every column
+/// to unit norm, then `R` every row), so that the singularity test of [`lu_checked`] judges
+/// the matrix and not its units: a bordered continuation system mixes displacement columns,
+/// a frequency column and an arclength row of very different sizes.
+pub(crate) struct EquilibratedLu {
+    lu: PartialPivLu<f64>,
+    row: Vec<f64>,
+    col: Vec<f64>,
+}
+
+impl EquilibratedLu {
+    /// Factorises `a`.
+    ///
+    /// # Errors
+    /// As [`lu_checked`], on the equilibrated matrix.
+    pub(crate) fn new(a: &Mat<f64>, what: &str) -> Result<Self> {
+        let norm_or_one = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
+        let col: Vec<f64> = (0..a.ncols()).map(|j| 1.0 / norm_or_one(a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt())).collect();
+        let mut b = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * col[j]);
+        let row: Vec<f64> = (0..b.nrows()).map(|i| 1.0 / norm_or_one((0..b.ncols()).map(|j| b[(i, j)] * b[(i, j)]).sum::<f64>().sqrt())).collect();
+        for j in 0..b.ncols() {
+            for (i, v) in b.col_mut(j).iter_mut().enumerate() {
+                *v *= row[i];
+            }
+        }
+        Ok(EquilibratedLu { lu: lu_checked(&b, what)?, row, col })
+    }
+
+    /// Solves `a x = rhs`.
+    pub(crate) fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let b: Vec<f64> = rhs.iter().zip(&self.row).map(|(v, r)| v * r).collect();
+        lu_solve(&self.lu, &b).iter().zip(&self.col).map(|(y, c)| y * c).collect()
+    }
 }
 
 /// Checks that a square matrix is numerically nonsingular (see [`lu_checked`]).
@@ -80,37 +108,18 @@ pub(crate) fn reference_force(lin: &LinearPart, contact_force_norm: f64, r0: f64
     }
 }
 
-/// Column norms of `a` (zero columns get 1).
-pub(crate) fn column_norms(a: &Mat<f64>) -> Vec<f64> {
-    (0..a.ncols())
-        .map(|j| {
-            let s = (0..a.nrows()).map(|i| a[(i, j)] * a[(i, j)]).sum::<f64>().sqrt();
-            if s > 0.0 && s.is_finite() {
-                s
-            } else {
-                1.0
-            }
-        })
-        .collect()
-}
-
 /// `a v`.
 pub(crate) fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
     let mut out = vec![0.0; a.nrows()];
     for j in 0..a.ncols() {
         let vj = v[j];
         if vj != 0.0 {
-            for i in 0..a.nrows() {
-                out[i] += a[(i, j)] * vj;
+            for (o, x) in out.iter_mut().zip(a.col(j).iter()) {
+                *o += x * vj;
             }
         }
     }
     out
-}
-
-/// `a^T v`.
-fn mat_t_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
-    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)] * v[i]).sum()).collect()
 }
 
 /// The AFT plan a system needs (`None` without contacts).
@@ -130,126 +139,57 @@ pub(crate) struct NewtonOutcome {
     pub residual: f64,
 }
 
-/// Newton / dogleg trust region at fixed `lin` (one frequency) from `z0`.
+/// The HBM equations at one frequency as a [`NonlinearProblem`]: residual and Jacobian divided
+/// by the reference force of the starting point.
+struct PointProblem<'a> {
+    system: &'a dyn HarmonicSystem,
+    lin: &'a LinearPart,
+    plan: Option<&'a AftPlan>,
+    ws: &'a mut ResidualWorkspace,
+    omega: f64,
+    f_ref: Option<f64>,
+}
+
+impl NonlinearProblem for PointProblem<'_> {
+    fn evaluate(&mut self, z: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+        let (mut r, mut jac) = evaluate(self.system, self.lin, self.plan, z, want_jacobian, self.ws)?;
+        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(self.lin, self.ws.contact_force_norm(), norm2(&r)));
+        let s = 1.0 / f_ref;
+        r.iter_mut().for_each(|v| *v *= s);
+        if let Some(j) = jac.as_mut() {
+            *j *= faer::Scale(s);
+        }
+        Ok((r, jac))
+    }
+    fn what(&self) -> String {
+        format!("HBM equations at omega = {}", self.omega)
+    }
+}
+
+/// Newton / dogleg trust region at fixed `lin` (one frequency) from `z0`, with at most
+/// `max_iterations` Jacobian evaluations.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn newton(
     system: &dyn HarmonicSystem,
     lin: &LinearPart,
     plan: Option<&AftPlan>,
     z0: Vec<f64>,
     opts: &HbmOptions,
+    max_iterations: usize,
     omega: f64,
     ws: &mut ResidualWorkspace,
-) -> Result<NewtonOutcome> {
-    let n = z0.len();
-    let mut z = z0;
-    let (mut r, jac) = evaluate(system, lin, plan, &z, true, ws)?;
-    let mut jac = jac.expect("jacobian requested");
-    let f_ref = reference_force(lin, ws.contact_force_norm(), norm2(&r));
-    let tol = opts.residual_tolerance;
-    let mut rel = norm2(&r) / f_ref;
-    if !rel.is_finite() {
-        return Err(JpError::invalid("HBM initial guess", "residual is not finite"));
-    }
-    if rel <= tol {
-        return Ok(NewtonOutcome { z, iterations: 0, residual: rel });
-    }
-    let mut diag = if opts.scaling { column_norms(&jac) } else { vec![1.0; n] };
-    let unit = if opts.scaling { f_ref } else { 1.0 };
-    let mut radius: Option<f64> = None;
-    let what = || format!("HBM Jacobian at omega = {omega}");
-    let mut lu = lu_checked(&jac, &what())?;
-    let mut newton_dz: Vec<f64> = lu_solve(&lu, &r).iter().map(|v| -v).collect();
-    let mut iterations = 0;
-    while iterations < opts.max_iterations {
-        iterations += 1;
-        // Scaled Newton step p̃_N = diag dz / unit.
-        let p_newton: Vec<f64> = (0..n).map(|j| diag[j] * newton_dz[j] / unit).collect();
-        let len_newton = norm2(&p_newton);
-        let dz: Vec<f64> = if !opts.trust_region {
-            newton_dz.clone()
-        } else {
-            let delta = *radius.get_or_insert(opts.initial_radius_factor * len_newton);
-            if len_newton <= delta {
-                newton_dz.clone()
-            } else {
-                // Cauchy point of the scaled model, J̃ = J diag^-1 unit / f_ref, r̃ = r / f_ref:
-                // g̃ = J̃^T r̃ = diag^-1 J^T r unit / f_ref^2.
-                let jt_r = mat_t_vec(&jac, &r);
-                let g: Vec<f64> = (0..n).map(|j| jt_r[j] / diag[j] * unit / (f_ref * f_ref)).collect();
-                let g_unscaled: Vec<f64> = (0..n).map(|j| g[j] / diag[j] * unit).collect();
-                let jg: Vec<f64> = mat_vec(&jac, &g_unscaled).iter().map(|v| v / f_ref).collect();
-                let g2 = norm2(&g).powi(2);
-                let jg2 = norm2(&jg).powi(2);
-                let p = if jg2 == 0.0 || g2 == 0.0 {
-                    p_newton.iter().map(|v| v * delta / len_newton).collect::<Vec<_>>()
-                } else {
-                    let p_c: Vec<f64> = g.iter().map(|v| -v * g2 / jg2).collect();
-                    let len_c = norm2(&p_c);
-                    if len_c >= delta {
-                        p_c.iter().map(|v| v * delta / len_c).collect()
-                    } else {
-                        // |p_c + tau (p_n - p_c)| = delta, tau in (0, 1).
-                        let dpc: Vec<f64> = (0..n).map(|j| p_newton[j] - p_c[j]).collect();
-                        let a = norm2(&dpc).powi(2);
-                        let b = 2.0 * (0..n).map(|j| p_c[j] * dpc[j]).sum::<f64>();
-                        let c = len_c * len_c - delta * delta;
-                        let tau = (-b + (b * b - 4.0 * a * c).max(0.0).sqrt()) / (2.0 * a);
-                        (0..n).map(|j| p_c[j] + tau * dpc[j]).collect()
-                    }
-                };
-                (0..n).map(|j| p[j] / diag[j] * unit).collect()
-            }
-        };
-        let step_scaled = norm2(&(0..n).map(|j| diag[j] * dz[j] / unit).collect::<Vec<_>>());
-        let x_scaled = norm2(&(0..n).map(|j| diag[j] * z[j] / unit).collect::<Vec<_>>());
-        let z_trial: Vec<f64> = (0..n).map(|j| z[j] + dz[j]).collect();
-        let (r_trial, jac_trial) = evaluate(system, lin, plan, &z_trial, true, ws)?;
-        let rel_trial = norm2(&r_trial) / f_ref;
-        let accepted = if !opts.trust_region {
-            rel_trial.is_finite()
-        } else {
-            let jdz = mat_vec(&jac, &dz);
-            let model: f64 = (0..n).map(|i| ((r[i] + jdz[i]) / f_ref).powi(2)).sum();
-            let pred = rel * rel - model;
-            let actual = rel * rel - rel_trial * rel_trial;
-            let rho = if !rel_trial.is_finite() {
-                -1.0
-            } else if pred > 0.0 {
-                actual / pred
-            } else if actual > 0.0 {
-                1.0
-            } else {
-                -1.0
-            };
-            let delta = radius.as_mut().expect("radius set");
-            if rho < 0.25 {
-                *delta = 0.25 * step_scaled.min(*delta);
-            } else if rho > 0.75 && step_scaled >= 0.99 * *delta {
-                *delta *= 2.0;
-            }
-            rho > 1e-4
-        };
-        if accepted {
-            z = z_trial;
-            r = r_trial;
-            rel = rel_trial;
-            jac = jac_trial.expect("jacobian requested");
-            if rel <= tol {
-                return Ok(NewtonOutcome { z, iterations, residual: rel });
-            }
-            if opts.scaling {
-                for (d, c) in diag.iter_mut().zip(column_norms(&jac)) {
-                    *d = d.max(c);
-                }
-            }
-            lu = lu_checked(&jac, &what())?;
-            newton_dz = lu_solve(&lu, &r).iter().map(|v| -v).collect();
-        }
-        if step_scaled <= opts.step_tolerance * (1.0 + x_scaled) {
-            break;
-        }
-    }
-    Err(JpError::NoConvergence { what: format!("HBM Newton at omega = {omega}"), iterations, residual: rel })
+) -> std::result::Result<NewtonOutcome, NotConverged> {
+    let settings = NewtonSettings {
+        tolerance: opts.residual_tolerance,
+        step_tolerance: opts.step_tolerance,
+        max_iterations,
+        trust_region: opts.trust_region,
+        initial_radius_factor: opts.initial_radius_factor,
+        scaling: opts.scaling,
+    };
+    let mut problem = PointProblem { system, lin, plan, ws, omega, f_ref: None };
+    let c = newton::solve(&mut problem, z0, &settings)?;
+    Ok(NewtonOutcome { residual: norm2(&c.residual), z: c.x, iterations: c.iterations })
 }
 
 /// Builds the reported solution (outputs, contact cycles) for a converged `z`.
@@ -311,28 +251,71 @@ pub fn solve_point(
     let plan = plan_for(system, opts)?;
     let lin = system.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
-    let outcome = match newton(system, &lin, plan.as_ref(), z0.clone(), opts, omega, &mut ws) {
-        Ok(o) => o,
-        Err(e @ JpError::NoConvergence { .. }) if opts.max_iterations > 1 => {
-            load_stepping(system, &lin, plan.as_ref(), z0, opts, omega, &mut ws).map_err(|_| e)?
-        }
-        Err(e) => return Err(e),
-    };
+    let outcome = solve_with_fallback(system, &lin, plan.as_ref(), z0, opts, omega, &mut ws)?;
     finish_point(system, plan.as_ref(), omega, outcome, &mut ws)
 }
+
+/// Newton from `z0`, then, if it does not converge, load stepping (see [`load_stepping`]); all
+/// attempts together use at most `opts.max_iterations` Jacobian evaluations, and the outcome
+/// reports them all. The first attempt gets a quarter of the budget (a point that converges at
+/// all usually does so in a few iterations).
+pub(crate) fn solve_with_fallback(
+    system: &dyn HarmonicSystem,
+    lin: &LinearPart,
+    plan: Option<&AftPlan>,
+    z0: Vec<f64>,
+    opts: &HbmOptions,
+    omega: f64,
+    ws: &mut ResidualWorkspace,
+) -> Result<NewtonOutcome> {
+    let budget = opts.max_iterations;
+    let first = (budget / 4).max(1);
+    match newton(system, lin, plan, z0.clone(), opts, first, omega, ws) {
+        Ok(o) => Ok(o),
+        Err(NotConverged { iterations, error: e @ JpError::NoConvergence { .. }, .. }) if budget > iterations + 1 => {
+            load_stepping(system, lin, plan, z0, opts, budget - iterations, omega, ws).map(|mut o| {
+                o.iterations += iterations;
+                o
+            }).map_err(|ls| match ls {
+                // report the first attempt's residual, and all iterations spent
+                JpError::NoConvergence { iterations: it2, .. } => match e {
+                    JpError::NoConvergence { what, residual, .. } => JpError::NoConvergence {
+                        what: format!("{what}, then load stepping"),
+                        iterations: iterations + it2,
+                        residual,
+                    },
+                    other => other,
+                },
+                other => other,
+            })
+        }
+        Err(NotConverged { error, .. }) => Err(error),
+    }
+}
+
+/// Most Newton iterations of one load-stepping stage: a stage that needs more is better cut in
+/// half (a good stage converges in a few).
+const LOAD_STAGE_ITERATIONS: usize = 50;
 
 /// Fallback when Newton fails from the given guess: a homotopy on the dynamic forcing,
 /// `f_h -> lambda f_h` (`h >= 1`) for `lambda` from 0 to 1, each stage starting from the
 /// previous solution. The step in `lambda` doubles after a success and halves after a
-/// failure, down to 1/1024. Friction makes the residual nonsmooth, and a far guess can leave
-/// the trust region stuck at a local minimum of `|r|`; near the stuck (linear) solution at
-/// `lambda = 0` it cannot.
+/// failure (a stage that does not converge in [`LOAD_STAGE_ITERATIONS`]), down to 1/1024,
+/// within `budget` Jacobian evaluations in all. Friction makes the
+/// residual nonsmooth, and a far guess can leave the trust region stuck at a local minimum of
+/// `|r|`; near the stuck (linear) solution at `lambda = 0` it cannot.
+///
+/// # Errors
+/// [`JpError::NoConvergence`] with the iterations spent when the budget runs out or the step in
+/// `lambda` falls below 1/1024; a singular Jacobian's error.
+#[allow(clippy::too_many_arguments)]
 fn load_stepping(
     system: &dyn HarmonicSystem,
     lin: &LinearPart,
     plan: Option<&AftPlan>,
     z0: Vec<f64>,
     opts: &HbmOptions,
+    budget: usize,
     omega: f64,
     ws: &mut ResidualWorkspace,
 ) -> Result<NewtonOutcome> {
@@ -343,33 +326,41 @@ fn load_stepping(
         }
         l
     };
-    let mut current = newton(system, &scaled(0.0), plan, z0, opts, omega, ws)?;
-    let mut iterations = current.iterations;
+    let no_convergence = |iterations: usize, residual: f64| JpError::NoConvergence {
+        what: format!("HBM load stepping at omega = {omega}"),
+        iterations,
+        residual,
+    };
+    let mut used = 0;
+    let mut current = match newton(system, &scaled(0.0), plan, z0, opts, budget, omega, ws) {
+        Ok(o) => o,
+        Err(f) => return Err(if matches!(f.error, JpError::NoConvergence { .. }) { no_convergence(f.iterations, f.residual_norm) } else { f.error }),
+    };
+    used += current.iterations;
     let (mut lambda, mut step) = (0.0f64, 0.25f64);
     while lambda < 1.0 {
+        if used >= budget {
+            return Err(no_convergence(used, f64::NAN));
+        }
         let next = (lambda + step).min(1.0);
         let stage = if next == 1.0 { lin.clone() } else { scaled(next) };
-        match newton(system, &stage, plan, current.z.clone(), opts, omega, ws) {
+        match newton(system, &stage, plan, current.z.clone(), opts, (budget - used).min(LOAD_STAGE_ITERATIONS), omega, ws) {
             Ok(o) => {
-                iterations += o.iterations;
+                used += o.iterations;
                 current = o;
                 lambda = next;
                 step = (2.0 * step).min(0.5);
             }
-            Err(JpError::NoConvergence { iterations: it, .. }) => {
-                iterations += it;
+            Err(NotConverged { iterations: it, residual_norm, error: JpError::NoConvergence { .. } }) => {
+                used += it.max(1);
                 step *= 0.5;
                 if step < 1.0 / 1024.0 {
-                    return Err(JpError::NoConvergence {
-                        what: format!("HBM load stepping at omega = {omega}"),
-                        iterations,
-                        residual: f64::NAN,
-                    });
+                    return Err(no_convergence(used, residual_norm));
                 }
             }
-            Err(e) => return Err(e),
+            Err(f) => return Err(f.error),
         }
     }
-    current.iterations = iterations;
+    current.iterations = used;
     Ok(current)
 }
