@@ -282,10 +282,12 @@ fn predicted_basis_partial_slip() {
     }
 }
 
-/// The self-correcting FR sweep over the band at `alpha_ST / 10`: the predicted basis of
-/// [`predicted_basis_partial_slip`] is flagged somewhere in the band (worst e*_1 6.1e-2), one
-/// regeneration from the reduced solution brings the worst e*_1 to 1.05e-2; the corrected basis
-/// then does FR and NLR at the FO resonance.
+/// The self-correcting FR sweep over the band at `alpha_ST / 10`: e*_1 of the predicted basis of
+/// [`predicted_basis_partial_slip`] is above the threshold somewhere in the band (6.1e-2), but
+/// the linearised error the sweep judges by (at the reduced resonance and at the points of
+/// largest e*_1) is 9e-3, so the basis is kept as it is (before the sweep judged by e*_1, one
+/// regeneration took it to 1.05e-2 and X1 to 1.75e-3); the basis then does FR and NLR at the
+/// FO resonance within 1 %.
 #[test]
 fn adaptive_sweep_partial_slip() {
     let p = pair();
@@ -312,8 +314,8 @@ fn adaptive_sweep_partial_slip() {
         let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
         println!("adaptive /{div} {name} at FO resonance: X1 {x1:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e}", es[1], ea[1], energy_error(rom, &s, fo, &plan));
         assert!(es[1] + 1e-9 >= ea[1], "{name}: e*_1 {:.3e} < e_1 {:.3e}", es[1], ea[1]);
-        // Measured: X1 1.75e-3 (FR), 7.7e-4 (NLR).
-        assert_below(name, &[("X1", x1)], 3.5e-3);
+        // Measured: X1 4.4e-3 (FR).
+        assert_below(name, &[("X1", x1)], 1e-2);
     }
-    assert!(worst <= AdaptiveOptions::default().threshold, "worst e*_1 after the sweep {worst:.2e}");
+    assert!(out.worst_error <= AdaptiveOptions::default().threshold, "judged error after the sweep {:.2e} (worst e*_1 {worst:.2e})", out.worst_error);
 }

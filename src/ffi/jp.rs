@@ -382,6 +382,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
             max_corrections: jo.max_corrections,
             gamma_growth: jo.gamma_growth,
             max_gamma: jo.max_gamma,
+            ..AdaptiveOptions::default()
         };
         // one progress counter per reduced sweep
         let mut pass_now = 0;

@@ -9,7 +9,7 @@ pub mod adaptive;
 pub mod fr;
 pub mod nlr;
 
-pub use adaptive::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionKind, RomKind};
+pub use adaptive::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck, RomKind};
 pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
 
