@@ -8,7 +8,7 @@ mod common;
 
 use common::{aft_setup, time_per_call, vm_hwm_mb};
 use jprom::aft::{evaluate_contacts_with, AftPlan, ContactForces, Threading};
-use jprom::app::run::stuck_limit_scale;
+use jprom::level::stuck_limit_scale;
 use jprom::cms::{BladeParams, BuiltinBlade};
 use jprom::condensation::CondensedSystem;
 use jprom::error_metric::predicted_error;

@@ -122,7 +122,7 @@ typedef struct {
   size_t nt;
   // Relative residual tolerance (default 1e-10).
   double residual_tolerance;
-  // Newton iterations per point (default 50).
+  // Newton iterations per point, all attempts (load stepping included) together (default 400).
   size_t max_iterations;
   // 1 (default): solve on the contact DoFs after condensing the linear ones (method.md §5);
   // 0: solve on all DoFs.
@@ -135,11 +135,11 @@ typedef struct {
   size_t struct_size;
   double omega_start;
   double omega_end;
-  // Arclength steps (scaled; defaults 0.02, 1e-6, 0.05).
+  // Arclength steps (scaled; defaults 0.02, 1e-6, 0.1).
   double initial_step;
   double min_step;
   double max_step;
-  // Most points (default 2000).
+  // Most points (default 5000).
   size_t max_points;
 } jprom_sweep_options;
 

@@ -16,6 +16,7 @@
 //! - [`jp`]: JP modes, boundary-condition prediction, SVD conditioning (§6-8).
 //! - [`rom`]: full-DoF (FR) and nonlinear-DoF (NLR) reduced models (§9).
 //! - [`error_metric`]: the error predictor `e*` (§10).
+//! - [`level`]: excitation levels, `alpha_ST` and the stuck limit (§11).
 //! - [`ffi`]: the C ABI; holds no numerics.
 //!
 //! Units are the caller's; the built-in blade uses mm, tonne, s (so N and MPa). Frequencies in
@@ -33,6 +34,7 @@ pub mod io;
 pub mod jp;
 pub mod rom;
 pub mod error_metric;
+pub mod level;
 pub mod ffi;
 pub mod app;
 

@@ -15,13 +15,11 @@ use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
 use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
+use crate::level::stuck_limit;
 use crate::jp::prediction::PredictionOptions;
 use crate::jp::{predict_basis, JpBasis};
 use crate::model::{ContactCoordinates, Damping, Model};
 use crate::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
-use faer::c64;
-use faer::linalg::solvers::Solve;
-use faer::Mat;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::io::Write;
@@ -54,8 +52,21 @@ pub struct SolverRow {
     /// Predicted `e*_1` and actual `e_1` there (ROMs only).
     pub predicted_e1: Option<f64>,
     pub actual_e1: Option<f64>,
-    /// Largest relative error of the dissipated energy per contact node there (ROMs only).
+    /// Largest error of the dissipated energy per contact node there, relative to the largest
+    /// energy per contact node met anywhere in the study (ROMs only; `None` when no contact
+    /// dissipates anywhere).
     pub energy_error: Option<f64>,
+    /// Why the sweep ended (`reached_end`, `stalled`, `point_cap`, `left_band`, `cancelled`),
+    /// and whether it covered the band.
+    pub end: String,
+    pub complete: bool,
+    /// What the reader of this row must know: an incomplete sweep (with where and why), a peak
+    /// on the band's edge, a level at which every contact sticks, errors taken against an
+    /// incomplete full-order sweep.
+    pub warnings: Vec<String>,
+    /// The largest error the self-correcting sweep judged its basis by, `max(e*_1, e_lin_1 at
+    /// its checks)` over the final pass (ROMs only).
+    pub worst_error: Option<f64>,
 }
 
 /// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
@@ -146,8 +157,14 @@ pub struct RunSummary {
     pub contacts: usize,
     pub stuck_resonance_hz: f64,
     /// `alpha_ST = |f_E^0| / |f_E^1|` at which the stuck resonance just reaches the friction
-    /// limit (see [`stuck_limit_scale`]).
-    pub alpha_st: f64,
+    /// limit ([`crate::level`]); `None` when the contacts are closed by their preload alone.
+    pub alpha_st: Option<f64>,
+    /// `|f_E^1|` at the stuck limit (levels are relative to it).
+    pub stuck_limit_force: f64,
+    /// What the levels are relative to, in words ([`crate::level::StuckLimit::describe`]).
+    pub level_reference: String,
+    /// The sweeps that did not cover the band, one line each (solver, level, why, where).
+    pub incomplete: Vec<String>,
     pub build_seconds: f64,
     pub rows: Vec<SolverRow>,
     /// The error-vs-basis-size study (`basis.gamma_study`), empty if not asked for.
@@ -287,42 +304,44 @@ pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
     model.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
 }
 
-/// The dynamic scale at which the linear stuck response at the stuck resonance `omega_st`
-/// just reaches the friction limit at the first contact: every contact `c` satisfies
-/// `|T0_c| + s |T1_c| <= mu N0_c` and `s kn |v1_c| <= N0_c`, with `T0`, `N0` from the static
-/// solution and `T1`, `v1` the first-harmonic amplitudes per unit scale.
-pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<f64> {
-    let n = coords.n_dof;
-    let mut kst = coords.stiffness.clone();
-    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
-        for (i, k) in law.stuck_stiffness().into_iter().enumerate() {
-            kst[(off + i, off + i)] += k;
-        }
+/// The row of a solver that failed before giving a sweep (its error in the warnings).
+fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> SolverRow {
+    SolverRow {
+        level,
+        solver: solver.into(),
+        sizes,
+        points: 0,
+        sweep_seconds: 0.0,
+        basis_seconds: 0.0,
+        corrections: 0,
+        peak_hz: f64::NAN,
+        peak_x1: f64::NAN,
+        peak_x0: f64::NAN,
+        error_x1: None,
+        error_x0: None,
+        predicted_e1: None,
+        actual_e1: None,
+        energy_error: None,
+        end: "failed".into(),
+        complete: false,
+        warnings: vec![format!("failed: {e}")],
+        worst_error: None,
     }
-    let w2 = omega_st * omega_st;
-    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], omega_st * coords.damping[(i, j)]));
-    let (fc, fs) = &coords.harmonic_force[0];
-    let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
-    let q = d.partial_piv_lu().solve(&rhs);
-    let mut scale = f64::INFINITY;
-    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
-        if let ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } = *law {
-            let n_static = n0 + kn * static_z[off + 2];
-            let t0 = (kt1 * static_z[off]).hypot(kt2 * static_z[off + 1]);
-            let t1 = (kt1 * q[(off, 0)].norm()).hypot(kt2 * q[(off + 1, 0)].norm());
-            let v1 = kn * q[(off + 2, 0)].norm();
-            if t1 > 0.0 {
-                scale = scale.min((mu * n_static - t0).max(0.0) / t1);
-            }
-            if v1 > 0.0 {
-                scale = scale.min(n_static.max(0.0) / v1);
-            }
-        }
+}
+
+/// Warnings about a sweep and its peak `p`: the sweep did not cover the band (why and where),
+/// or the peak is the first or last point in frequency (the resonance may lie outside).
+fn sweep_warnings(res: &SweepResult, p: &PointSolution, band: (f64, f64)) -> Vec<String> {
+    let mut w = Vec::new();
+    if !res.reached_end() {
+        w.push(format!("the sweep did not cover the band: {}", res.failure.clone().unwrap_or_else(|| res.end.name().into())));
     }
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(JpError::invalid("excitation", format!("no finite stuck limit (scale {scale}): check the static load and contacts")));
+    let (lo, hi) = (band.0.min(band.1), band.0.max(band.1));
+    let edge = 1e-9 * (hi - lo);
+    if (p.omega - lo).abs() <= edge || (p.omega - hi).abs() <= edge {
+        w.push(format!("the peak is on the band edge ({:.3} Hz): the resonance may lie outside the band", p.omega / TWO_PI));
     }
-    Ok(scale)
+    w
 }
 
 fn peak(points: &[PointSolution]) -> Option<&PointSolution> {
@@ -351,7 +370,7 @@ fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Res
     for j in 1..n_out {
         header.push_str(&format!(",X1_out{j}"));
     }
-    header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy");
+    header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy,sweep_end");
     writeln!(f, "{header}").map_err(io)?;
     for (i, p) in res.points.iter().enumerate() {
         let mut line = format!("{:.6},{:.9e},{:.9e}", p.omega / TWO_PI, p.output_coeff(0, 0), p.output_amplitude(1, 0));
@@ -363,7 +382,7 @@ fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Res
             None => (String::new(), String::new()),
         };
         let c = state_counts(p);
-        line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy()));
+        line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
         writeln!(f, "{line}").map_err(io)?;
     }
     Ok(())
@@ -406,7 +425,7 @@ fn rel(a: f64, b: f64) -> f64 {
 pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<RunSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
     let h = study.hbm.harmonics;
-    let hopts = HbmOptions { nt: Some(study.hbm.nt), ..HbmOptions::with_harmonics(h) };
+    let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
     let mut model = build_model(study)?;
@@ -420,18 +439,14 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let omega_st = crate::jp::prediction::stuck_mode(&coords, band)?.0;
     let plan = AftPlan::new(h, study.hbm.nt)?;
     let static_z = crate::jp::prediction::static_solution(&coords, &plan)?;
-    let s_st = stuck_limit_scale(&coords, &static_z, omega_st)?;
-    model.excitation.dynamic_scale = s_st;
-    let alpha_st = model.excitation.level();
+    // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
+    let limit = stuck_limit(&coords, &static_z, omega_st)?;
     let build_seconds = t.elapsed().as_secs_f64();
     let mut rows = Vec::new();
-    // max_step so that a straight sweep takes about `points` steps
-    let sopts = SweepOptions {
-        max_step: 1.0 / study.band.points as f64,
-        initial_step: 0.5 / study.band.points as f64,
-        max_points: 4 * study.band.points,
-        ..SweepOptions::band(band.0, band.1)
-    };
+    // about `points` points where the response is smooth, more at resonances and folds
+    let sopts = SweepOptions { max_points: (20 * study.band.points).clamp(1000, 100_000), ..SweepOptions::with_points(band.0, band.1, study.band.points) };
+    // per level: the FO peak's energies per contact and each ROM's there, for the energy errors
+    let mut energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
     let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
     let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
@@ -439,7 +454,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let mut basis_study_seconds = 0.0;
 
     for &level in &study.forcing.levels {
-        model.excitation.dynamic_scale = s_st / level;
+        model.excitation.dynamic_scale = limit.scale_at(level)?;
         let tag = format!("alpha_ST_x{level:e}");
         // the transformed forces carry the excitation level: rebuild them for this level
         let coords = ContactCoordinates::new(&model, h)?;
@@ -448,19 +463,36 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         let condensed = CondensedSystem::new(&model, &hopts)?;
         // full order
         let mut fo_peak: Option<PointSolution> = None;
+        let mut fo_warning: Option<String> = None;
         if study.solvers.full_order {
             let bar = progress(study.band.points as u64, &format!("FO sweep, level {level:e}"), show_progress);
             let t = Instant::now();
             let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
                 bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
                 ControlFlow::Continue(())
-            })?;
+            });
             bar.finish_and_clear();
+            let res = match res {
+                Ok(r) => r,
+                Err(e) => {
+                    rows.push(failed_row(level, "FO (condensed)", condensed.layout().sizes.clone(), &e));
+                    fo_warning = Some("no full-order sweep to compare with".into());
+                    SweepResult::empty()
+                }
+            };
+            if res.points.is_empty() {
+                // the failure is in its row; the ROMs still run
+            } else {
             let secs = t.elapsed().as_secs_f64();
             write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
             series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
+            let warnings = sweep_warnings(&res, &p, band);
+            if !res.reached_end() {
+                fo_warning = Some(format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
+            }
+            energies_at_peak.push((rows.len(), p.contact_cycles.iter().map(|c| c.dissipated_energy).collect(), Vec::new()));
             rows.push(SolverRow {
                 level,
                 solver: "FO (condensed)".into(),
@@ -477,8 +509,13 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 predicted_e1: None,
                 actual_e1: None,
                 energy_error: None,
+                end: res.end.name().into(),
+                complete: res.reached_end(),
+                warnings,
+                worst_error: None,
             });
             fo_peak = Some(p);
+            }
         }
         if !(study.solvers.fr || study.solvers.nlr) {
             frf_series.push((level, series));
@@ -496,8 +533,15 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             let bar = progress(1, &format!("{name}: basis + sweep, level {level:e}"), show_progress);
             let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
             let t = Instant::now();
-            let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts)?;
+            let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts);
             bar.finish_and_clear();
+            let adaptive = match adaptive {
+                Ok(a) => a,
+                Err(e) => {
+                    rows.push(failed_row(level, name, Vec::new(), &e));
+                    continue;
+                }
+            };
             let secs = t.elapsed().as_secs_f64();
             let basis = &adaptive.basis;
             let rom: Box<dyn ReducedModel> = match kind {
@@ -510,6 +554,16 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
             let basis_seconds = 0.0;
+            let mut warnings = sweep_warnings(res, p, band);
+            if adaptive.worst_error > aopts.threshold {
+                warnings.push(format!(
+                    "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({:?})",
+                    adaptive.worst_error,
+                    aopts.threshold,
+                    adaptive.corrections.len(),
+                    adaptive.end
+                ));
+            }
             let mut row = SolverRow {
                 level,
                 solver: name.to_string(),
@@ -526,11 +580,22 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 predicted_e1: None,
                 actual_e1: None,
                 energy_error: None,
+                end: res.end.name().into(),
+                complete: res.reached_end(),
+                warnings,
+                worst_error: Some(adaptive.worst_error),
             };
             if let Some(fo) = &fo_peak {
                 // the ROM at the full-order resonance frequency, from its nearest sweep point
                 let guess = res.points.iter().min_by(|a, b| (a.omega - fo.omega).abs().total_cmp(&(b.omega - fo.omega).abs())).map(|q| q.z.clone());
-                let r = solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &hopts)?;
+                let r = match solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &hopts) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        row.warnings.push(format!("no errors: the reduced model did not converge at the full-order peak ({e})"));
+                        rows.push(row);
+                        continue;
+                    }
+                };
                 row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
                 row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
                 let e_star = predicted_error(rom.as_ref(), &plan, r.omega, &r.z)?;
@@ -538,14 +603,11 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
                 row.predicted_e1 = e_star.get(1).copied();
                 row.actual_e1 = e.get(1).copied();
                 let cycles = reduced_contact_cycles(rom.as_ref(), &plan, r.omega, &r.z)?;
-                let total: f64 = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
-                row.energy_error = Some(
-                    cycles
-                        .iter()
-                        .zip(&fo.contact_cycles)
-                        .map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs() / total.max(f64::MIN_POSITIVE))
-                        .fold(0.0, f64::max),
-                );
+                let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
+                energies_at_peak.push((rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
+                if let Some(w) = &fo_warning {
+                    row.warnings.push(w.clone());
+                }
                 energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
                     let label = name.to_string();
@@ -568,11 +630,29 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         energy_series.push((level, energies));
     }
 
+    // Energy errors relative to the largest energy per contact node met in the study (never
+    // round-off: a stuck contact dissipates exactly zero); a level without slip says so.
+    let largest = energies_at_peak.iter().flat_map(|(_, a, b)| a.iter().chain(b)).fold(0.0f64, |m, &e| m.max(e));
+    for (i, fo_w, rom_w) in &energies_at_peak {
+        if fo_w.iter().all(|&e| e == 0.0) && rom_w.iter().all(|&e| e == 0.0) {
+            rows[*i].warnings.push("every contact sticks at the full-order resonance: no friction dissipation".into());
+        } else if !rom_w.is_empty() && largest > 0.0 {
+            rows[*i].energy_error = Some(rom_w.iter().zip(fo_w).map(|(a, b)| (a - b).abs() / largest).fold(0.0, f64::max));
+        }
+    }
+    let incomplete = rows
+        .iter()
+        .filter(|r| !r.complete)
+        .map(|r| format!("{} at level {:e}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone())))
+        .collect();
     let summary = RunSummary {
         model_dofs: model.n_dof(),
         contacts: model.contacts.len(),
         stuck_resonance_hz: omega_st / TWO_PI,
-        alpha_st,
+        alpha_st: limit.alpha,
+        stuck_limit_force: limit.force,
+        level_reference: limit.describe(),
+        incomplete,
         build_seconds,
         rows,
         basis_study,
@@ -587,7 +667,12 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
         for (level, series) in &energy_series {
-            let title = format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}");
+            let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
+            let title = if stuck {
+                format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}")
+            } else {
+                format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}")
+            };
             let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
             write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
         }
@@ -655,18 +740,19 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
 
 /// The summary as a fixed-width text table.
 pub fn summary_table(s: &RunSummary) -> String {
+    let alpha = &s.level_reference;
     let mut out = format!(
-        "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, alpha_ST = {:.4e}, built in {:.1} s\n",
-        s.model_dofs, s.contacts, s.stuck_resonance_hz, s.alpha_st, s.build_seconds
+        "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, {alpha}, built in {:.1} s\n",
+        s.model_dofs, s.contacts, s.stuck_resonance_hz, s.build_seconds
     );
     out.push_str(&format!(
-        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
-        "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W"
+        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
     ));
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
             r.level,
             r.solver,
             format!("{:?}", r.sizes),
@@ -679,8 +765,18 @@ pub fn summary_table(s: &RunSummary) -> String {
             opt(r.error_x0),
             opt(r.predicted_e1),
             opt(r.actual_e1),
-            opt(r.energy_error)
+            opt(r.energy_error),
+            if r.warnings.is_empty() { r.end.clone() } else { format!("{} (!)", r.end) }
         ));
+    }
+    let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty()).collect();
+    if !flagged.is_empty() {
+        out.push_str("(!) read with care:\n");
+        for r in flagged {
+            for w in &r.warnings {
+                out.push_str(&format!("  {} at a/a_ST = {:.1e}: {w}\n", r.solver, r.level));
+            }
+        }
     }
     if !s.basis_study.is_empty() {
         out.push_str(&format!("error vs basis size at the FO resonance (basis.gamma_study, {:.1} s):\n", s.basis_study_seconds));

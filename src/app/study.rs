@@ -16,6 +16,7 @@
 //! [hbm]
 //! harmonics = 1
 //! nt = 64
+//! max_iterations = 400      # Newton iterations per point (and per continuation corrector)
 //!
 //! [forcing]
 //! levels = [0.1, 0.001]     # alpha / alpha_ST
@@ -399,11 +400,14 @@ impl Default for BandSpec {
 pub struct HbmSpec {
     pub harmonics: usize,
     pub nt: usize,
+    /// Newton iterations per point, all attempts together; bounds the continuation's corrector
+    /// too (default 400, [`crate::hbm::HbmOptions::max_iterations`]).
+    pub max_iterations: usize,
 }
 
 impl Default for HbmSpec {
     fn default() -> Self {
-        HbmSpec { harmonics: 1, nt: 64 }
+        HbmSpec { harmonics: 1, nt: 64, max_iterations: crate::hbm::HbmOptions::default().max_iterations }
     }
 }
 
@@ -472,11 +476,14 @@ impl Default for SolverSpec {
 pub struct OutputSpec {
     pub dir: PathBuf,
     pub plots: bool,
+    /// Exit with success even when a sweep did not cover the band (default false: `jprom run`
+    /// then exits with status 3 after writing what it has).
+    pub keep_partial: bool,
 }
 
 impl Default for OutputSpec {
     fn default() -> Self {
-        OutputSpec { dir: PathBuf::from("jprom-out"), plots: true }
+        OutputSpec { dir: PathBuf::from("jprom-out"), plots: true, keep_partial: false }
     }
 }
 

@@ -25,7 +25,7 @@ pub struct jprom_hbm_options {
     pub nt: usize,
     /// Relative residual tolerance (default 1e-10).
     pub residual_tolerance: f64,
-    /// Newton iterations per point (default 50).
+    /// Newton iterations per point, all attempts (load stepping included) together (default 400).
     pub max_iterations: usize,
     /// 1 (default): solve on the contact DoFs after condensing the linear ones (method.md §5);
     /// 0: solve on all DoFs.
@@ -41,11 +41,11 @@ pub struct jprom_sweep_options {
     pub struct_size: usize,
     pub omega_start: f64,
     pub omega_end: f64,
-    /// Arclength steps (scaled; defaults 0.02, 1e-6, 0.05).
+    /// Arclength steps (scaled; defaults 0.02, 1e-6, 0.1).
     pub initial_step: f64,
     pub min_step: f64,
     pub max_step: f64,
-    /// Most points (default 2000).
+    /// Most points (default 5000).
     pub max_points: usize,
 }
 
