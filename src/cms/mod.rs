@@ -18,12 +18,14 @@
 pub mod hex8;
 pub mod blade;
 pub mod blade_pair;
+pub mod plate;
 pub mod eigen;
 pub mod craig_bampton;
 
 pub use blade::{BladeFe, BladeParams, BuiltinBlade, CbModel, ContactNode};
 pub use blade_pair::{BladePair, PairParams, PairSite};
 pub use craig_bampton::{CbOptions, CraigBampton};
+pub use plate::{PlateContact, PlateFe, PlateParams};
 pub use eigen::{lowest_modes, SparseCholesky, SparseEigen};
 
 use crate::error::{JpError, Result};
