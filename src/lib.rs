@@ -17,11 +17,15 @@
 //! - [`rom`]: full-DoF (FR) and nonlinear-DoF (NLR) reduced models (§9).
 //! - [`error_metric`]: the error predictor `e*` (§10).
 //! - [`ffi`]: the C ABI; holds no numerics.
+//! - [`memory`], [`limits`]: the memory budget and the documented caps that sizes from
+//!   outside are checked against before anything is allocated.
 //!
 //! Units are the caller's; the built-in blade uses mm, tonne, s (so N and MPa). Frequencies in
 //! the library are angular (`omega`, rad/s) unless a name says `_hz`.
 
 pub mod error;
+pub mod limits;
+pub mod memory;
 pub mod linalg;
 pub mod model;
 pub mod contact;

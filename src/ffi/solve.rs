@@ -19,9 +19,11 @@ use std::ops::ControlFlow;
 #[allow(non_camel_case_types)]
 pub struct jprom_hbm_options {
     pub struct_size: usize,
-    /// Highest harmonic H (default 1); the static term is always included.
+    /// Highest harmonic H (default 1, at most `JPROM_MAX_HARMONICS`); the static term is
+    /// always included.
     pub harmonics: usize,
-    /// AFT samples per period; 0 (default) = 64 for H <= 3, more above.
+    /// AFT samples per period, a power of two >= 4 (H + 1) and at most `JPROM_MAX_NT`;
+    /// 0 (default) = 64 for H <= 3, more above.
     pub nt: usize,
     /// Relative residual tolerance (default 1e-10).
     pub residual_tolerance: f64,
@@ -183,7 +185,19 @@ pub(crate) fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, Ffi
     Ok(s)
 }
 
+/// Refuses a solve whose dense Jacobian alone (`(2H + 1) n` unknowns squared, `n` the model's
+/// DoFs, or its contact coordinates when condensed) would exceed the memory budget.
+fn check_system_memory(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<(), FfiError> {
+    let m = &model.model;
+    let n = if condensed != 0 { m.contacts.iter().map(|c| c.dim()).sum() } else { m.n_dof() };
+    let unknowns = crate::memory::product(&[2 * opts.harmonics + 1, n]);
+    let what = format!("the harmonic-balance Jacobian ({unknowns} unknowns at H = {})", opts.harmonics);
+    crate::memory::check(&what, crate::memory::bytes_of::<f64>(unknowns.saturating_mul(unknowns)))?;
+    Ok(())
+}
+
 fn system(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
+    check_system_memory(model, opts, condensed)?;
     Ok(if condensed != 0 {
         Box::new(CondensedSystem::new(&model.model, opts)?)
     } else {
@@ -535,14 +549,16 @@ pub unsafe extern "C" fn jprom_solution_save_json(solution: *const jprom_solutio
     })
 }
 
-/// Loads a solution saved by `jprom_solution_save_json`. The file does not say whether the
+/// Loads a solution saved by `jprom_solution_save_json`, checked as a whole (every size
+/// against every array; `JPROM_PARSE` naming the key and line otherwise; `JPROM_IO` for a
+/// file of another kind or a directory). The file does not say whether the
 /// solution is full-order or reduced: `jprom_basis_from_solution` and `jprom_rom_actual_error`
 /// check a loaded solution's sizes only.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let point: PointSolution = crate::io::load_json("solution", &path_arg(path, "path")?)?;
+        let point: PointSolution = crate::io::load_document(&path_arg(path, "path")?)?;
         *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::Unknown });
         Ok(())
     })
@@ -558,14 +574,15 @@ pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result,
     })
 }
 
-/// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
+/// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
+/// `jprom_solution_load_json`. `*out` is written only on success; free
 /// it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
 /// errors (`e*`) are not saved, so a loaded sweep has none.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let result: SweepResult = crate::io::load_json("sweep", &path_arg(path, "path")?)?;
+        let result: SweepResult = crate::io::load_document(&path_arg(path, "path")?)?;
         *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::Unknown);
         Ok(())
     })
