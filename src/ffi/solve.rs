@@ -362,7 +362,10 @@ pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, ind
     ffi_guard!({
         let origin = handle::get(sweep, "sweep")?.origin;
         let p = sweep_point(sweep, index)?.clone();
-        *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p, origin });
+        // the out pointer is checked before the handle is registered (an assignment evaluates
+        // its right side first: a NULL `out` leaked a live handle)
+        let out = out_arg(out, "out")?;
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p, origin });
         Ok(())
     })
 }
