@@ -48,13 +48,18 @@ struct Header {
 /// at most 24 bytes parsed, e.g. as a triplet entry).
 const READ_EXPANSION: u128 = 13;
 
-/// Reads a whole text file. A directory, a missing or unreadable file is [`JpError::Io`]; a
+/// Reads a whole text file. A directory, a device, a missing or unreadable file is
+/// [`JpError::Io`]; a
 /// file whose text and parsed values would not fit the memory budget is
 /// [`JpError::TooLarge`], before it is read.
 pub fn read_text(path: &Path) -> Result<String> {
     let meta = std::fs::metadata(path).map_err(|e| io_err(path, e))?;
     if meta.is_dir() {
         return Err(JpError::Io { path: path.display().to_string(), reason: "is a directory, not a file".into() });
+    }
+    if !meta.is_file() {
+        // a device or a pipe has no size to check, and /dev/zero or /dev/full never ends
+        return Err(JpError::Io { path: path.display().to_string(), reason: "is not a regular file (a device or a pipe)".into() });
     }
     crate::memory::check(&format!("reading {} ({} bytes)", path.display(), meta.len()), (meta.len() as u128).saturating_mul(READ_EXPANSION))?;
     let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
