@@ -234,9 +234,9 @@ mod tests {
     #[test]
     fn json_keys_are_found_on_their_line() {
         let text = "{\n  \"a\": {\"x\": [1,\n 2, {\"y\": 3}]},\n  \"band\": {\n    \"points\": 7\n  }\n}";
-        assert_eq!(json_line(text, &key_path("band.points")), Some(4));
+        assert_eq!(json_line(text, &key_path("band.points")), Some(5));
         assert_eq!(json_line(text, &key_path("a.x[2].y")), Some(3));
-        assert_eq!(json_line(text, &key_path("band.missing")), Some(3), "falls back on the parent");
+        assert_eq!(json_line(text, &key_path("band.missing")), Some(4), "falls back on the parent");
         assert_eq!(json_line(text, &key_path("nothing")), None);
     }
 
