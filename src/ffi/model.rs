@@ -79,6 +79,8 @@ pub unsafe extern "C" fn jprom_model_new(
         let nn = mul_size("mass", n, n)?;
         let m = slice_arg(mass, nn, "mass")?;
         let k = slice_arg(stiffness, nn, "stiffness")?;
+        // the model keeps M and K dense, and its checks make a copy
+        crate::memory::check(&format!("a dense model of n = {n}"), crate::memory::bytes_of::<f64>(crate::memory::product(&[3, n, n])))?;
         let model = new_model(
             Mat::from_fn(n, n, |i, j| m[i + j * n]),
             Mat::from_fn(n, n, |i, j| k[i + j * n]),
