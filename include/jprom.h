@@ -52,6 +52,16 @@
 // value is the new gamma).
 #define JPROM_CORRECTION_GAMMA_INCREASED 1
 
+// Highest harmonic `H` accepted in `jprom_hbm_options.harmonics`.
+#define JPROM_MAX_HARMONICS 64
+
+// Most AFT samples per period accepted in `jprom_hbm_options.nt` (2^16).
+#define JPROM_MAX_NT 65536
+
+// Most amplitude samples of a basis prediction (`n_samples` of `jprom_basis_predict` and
+// `jprom_jp_options`).
+#define JPROM_MAX_SAMPLES 10000
+
 // Largest model size accepted by `jprom_model_new_csc` (the model is stored dense:
 // two `n x n` matrices of doubles).
 #define JPROM_DENSE_MAX_DOF 10000
@@ -76,7 +86,8 @@ typedef enum {
   JPROM_OK = 0,
   // A required pointer argument was NULL.
   JPROM_NULL_ARGUMENT = 1,
-  // An array or matrix has the wrong size (or a size overflows).
+  // An array or matrix has the wrong size, a size overflows, exceeds a documented
+  // `JPROM_MAX_*` cap, or would need more memory than the budget (`jprom_set_memory_budget`).
   JPROM_BAD_SIZE = 2,
   // A value is out of range: NaN, negative stiffness, DoF index too large, bad option, ...
   JPROM_INVALID_VALUE = 3,
@@ -116,9 +127,11 @@ typedef struct jprom_sweep_result jprom_sweep_result;
 // fields. `struct_size` must stay `sizeof(jprom_hbm_options)` (lets the struct grow).
 typedef struct {
   size_t struct_size;
-  // Highest harmonic H (default 1); the static term is always included.
+  // Highest harmonic H (default 1, at most `JPROM_MAX_HARMONICS`); the static term is
+  // always included.
   size_t harmonics;
-  // AFT samples per period; 0 (default) = 64 for H <= 3, more above.
+  // AFT samples per period, a power of two >= 4 (H + 1) and at most `JPROM_MAX_NT`;
+  // 0 (default) = 64 for H <= 3, more above.
   size_t nt;
   // Relative residual tolerance (default 1e-10).
   double residual_tolerance;
@@ -161,7 +174,8 @@ typedef struct {
   // Conditioning ratio `gamma >= 1` of the SVD (default 1e3; typically 1e2 to 1e4, larger
   // is bigger and more accurate).
   double gamma;
-  // Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
+  // Amplitudes sampled along the generating shape by the prediction (default 100, >= 1,
+  // at most `JPROM_MAX_SAMPLES`).
   size_t n_samples;
   // Eigenpairs kept outside the band as well, nearest first (default 2).
   size_t extra_outside;
@@ -194,7 +208,7 @@ jprom_status jprom_live_handle_count(size_t *out);
 // sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
 // `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
 // with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
-// AFT samples.
+// AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
 jprom_status jprom_basis_predict(const jprom_model *model,
                                  const jprom_hbm_options *options,
                                  double omega_lo,
@@ -216,7 +230,8 @@ jprom_status jprom_basis_sizes(const jprom_basis *basis,
 // Saves a basis as versioned JSON.
 jprom_status jprom_basis_save_json(const jprom_basis *basis, const char *path);
 
-// Loads a basis saved by `jprom_basis_save_json`.
+// Loads a basis saved by `jprom_basis_save_json`, checked as a whole (every matrix against
+// `n_dof` and `sizes`; `JPROM_PARSE` naming the key and line otherwise).
 jprom_status jprom_basis_load_json(const char *path, jprom_basis **out);
 
 // Sweeps the reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) of `model` on `basis`,
@@ -331,6 +346,15 @@ jprom_status jprom_rom_actual_error(const jprom_model *model,
                                     double *buf,
                                     size_t len);
 
+// Sets the memory budget in bytes: the ceiling for what one request sized by the caller
+// (options, array lengths, file contents) may need. A request estimated above it returns
+// `JPROM_BAD_SIZE` with the estimate instead of allocating. `bytes = 0` restores the
+// default, 70 % of the machine's memory (or of the cgroup limit). Process-wide.
+jprom_status jprom_set_memory_budget(size_t bytes);
+
+// The memory budget in force, in bytes (see `jprom_set_memory_budget`).
+jprom_status jprom_memory_budget(size_t *out);
+
 // Creates a model with `n` DoFs from dense, column-major `n x n` mass and stiffness
 // matrices (both symmetric; `M` with positive diagonal). Damping, excitation, contacts and
 // output DoFs start empty. The arrays are copied.
@@ -385,8 +409,9 @@ jprom_status jprom_model_set_modal_damping(jprom_model *model, double zeta, doub
 jprom_status jprom_model_set_static_force(jprom_model *model, const double *force, size_t n);
 
 // Harmonic `h >= 1` of the excitation: `f(t) = cos_part cos(h omega t) + sin_part sin(h omega t)`
-// (before the dynamic scale). Both arrays have length `n` (the model's DoF count); either may
-// be NULL, meaning zero. Harmonics never set are zero.
+// (before the dynamic scale). Both arrays have length `n`, which must be the model's DoF
+// count (else `JPROM_BAD_SIZE`); either may be NULL, meaning zero. Harmonics never set are
+// zero.
 jprom_status jprom_model_set_harmonic_force(jprom_model *model,
                                             size_t h,
                                             const double *cos_part,
@@ -439,7 +464,9 @@ jprom_status jprom_model_validate(const jprom_model *model);
 // Saves the model as versioned JSON at `path` (NUL-terminated UTF-8).
 jprom_status jprom_model_save_json(const jprom_model *model, const char *path);
 
-// Loads and validates a model saved by `jprom_model_save_json`. `*out` as for
+// Loads and validates a model saved by `jprom_model_save_json`: `JPROM_IO` for a missing
+// file, a directory or a file of another kind (it says which), `JPROM_PARSE` with the line for
+// malformed JSON or an unknown key, the model checks' status otherwise. `*out` as for
 // `jprom_model_new`.
 jprom_status jprom_model_load_json(const char *path, jprom_model **out);
 
@@ -567,7 +594,9 @@ jprom_status jprom_solution_contact_states(const jprom_solution *solution,
 // Saves a solution as versioned JSON.
 jprom_status jprom_solution_save_json(const jprom_solution *solution, const char *path);
 
-// Loads a solution saved by `jprom_solution_save_json`. The file does not say whether the
+// Loads a solution saved by `jprom_solution_save_json`, checked as a whole (every size
+// against every array; `JPROM_PARSE` naming the key and line otherwise; `JPROM_IO` for a
+// file of another kind or a directory). The file does not say whether the
 // solution is full-order or reduced: `jprom_basis_from_solution` and `jprom_rom_actual_error`
 // check a loaded solution's sizes only.
 jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
@@ -575,7 +604,8 @@ jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 // Saves all points of a sweep as versioned JSON.
 jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
 
-// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
+// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
+// `jprom_solution_load_json`. `*out` is written only on success; free
 // it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
 // errors (`e*`) are not saved, so a loaded sweep has none.
 jprom_status jprom_sweep_load_json(const char *path, jprom_sweep_result **out);

@@ -26,8 +26,9 @@ pub enum JpError {
     #[error("I/O error on {path}: {reason}")]
     Io { path: String, reason: String },
 
-    /// A file could be read but its content is malformed, with the line where it went wrong.
-    #[error("parse error in {path} at line {line}: {reason}")]
+    /// A file could be read but its content is malformed, with the line where it went wrong
+    /// (`0`: no single line, e.g. a value taken by default).
+    #[error("parse error in {path}{}: {reason}", at_line(*line))]
     Parse { path: String, line: usize, reason: String },
 
     /// The caller asked to stop (progress callback returned non-zero).
@@ -37,6 +38,23 @@ pub enum JpError {
     /// An eigen solver failed or returned too few converged pairs.
     #[error("eigen solver failed: {what}")]
     Eigen { what: String },
+
+    /// What a size from outside asks for would need more memory than the budget
+    /// ([`crate::memory::MemoryBudget`]); nothing was allocated.
+    #[error("{what} is too large: it needs about {}, more than the memory budget of {} (raise it with jprom_set_memory_budget or MemoryBudget::set_global if the machine has the memory)", crate::memory::human_bytes(*bytes), crate::memory::human_bytes(*budget as u128))]
+    TooLarge { what: String, bytes: u128, budget: usize },
+
+    /// A size from outside exceeds one of jprom's documented caps ([`crate::limits`]).
+    #[error("{what} = {value} is above jprom's limit of {limit}")]
+    OverLimit { what: String, value: u128, limit: u128 },
+}
+
+fn at_line(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(" at line {line}")
+    }
 }
 
 /// Result alias used throughout the crate.
@@ -50,6 +68,10 @@ impl JpError {
     /// Shorthand for [`JpError::BadSize`].
     pub fn bad_size(what: impl Into<String>, expected: usize, got: usize) -> Self {
         JpError::BadSize { what: what.into(), expected, got }
+    }
+    /// Shorthand for [`JpError::OverLimit`].
+    pub fn over_limit(what: impl Into<String>, value: u128, limit: u128) -> Self {
+        JpError::OverLimit { what: what.into(), value, limit }
     }
     /// Shorthand for [`JpError::SingularMatrix`].
     pub fn singular(what: impl Into<String>) -> Self {

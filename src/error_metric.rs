@@ -100,7 +100,12 @@ fn harmonic_norm(per_coeff: &[Vec<f64>], h: usize) -> f64 {
     ks.iter().map(|&k| per_coeff[k].iter().map(|x| x * x).sum::<f64>()).sum::<f64>().sqrt()
 }
 
-fn split(w: &[f64], n_w: usize) -> Vec<Vec<f64>> {
+/// Harmonic-major `w` (`n_coeffs` blocks of `n_w`) as one vector per coefficient. A model
+/// without contacts (`n_w = 0`) gives `n_coeffs` empty vectors, so its `e*` is 0.
+fn split(w: &[f64], n_w: usize, n_coeffs: usize) -> Vec<Vec<f64>> {
+    if n_w == 0 {
+        return vec![Vec::new(); n_coeffs];
+    }
     w.chunks(n_w).map(|c| c.to_vec()).collect()
 }
 
@@ -118,7 +123,7 @@ pub fn predicted_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[
     let nw = rom.n_contact_coords();
     let w = reduced_contact_displacement(rom, omega, z)?;
     let forces = contact_forces(rom, plan, &w, false);
-    let f_rom = split(&forces.force, nw);
+    let f_rom = split(&forces.force, nw, 2 * hh + 1);
     let mut defect = rom.implied_contact_force(omega, z)?;
     // Contact rows only (see the module doc).
     for d in defect.iter_mut() {
@@ -155,8 +160,8 @@ pub fn actual_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64
         return Err(JpError::invalid("full-order solution", format!("H = {}, model H = {hh}", fo.layout.harmonics)));
     }
     let nw = rom.n_contact_coords();
-    let f_rom = split(&contact_forces(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false).force, nw);
-    let f_fo = split(&contact_forces(rom, plan, &full_order_contact_displacement(fo, nw)?, false).force, nw);
+    let f_rom = split(&contact_forces(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false).force, nw, 2 * hh + 1);
+    let f_fo = split(&contact_forces(rom, plan, &full_order_contact_displacement(fo, nw)?, false).force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_rom.iter().zip(&f_fo).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }
@@ -184,8 +189,8 @@ pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, pla
     let lu = crate::hbm::solve::lu_checked(&jac, &format!("condensed full-order Jacobian at omega = {omega} (linearised error)"))?;
     let dw = crate::hbm::solve::lu_solve(&lu, &r);
     let corrected: Vec<f64> = w.iter().zip(&dw).map(|(a, d)| a - d).collect();
-    let f_rom = split(&contact_forces(rom, plan, &w, false).force, nw);
-    let f_new = split(&contact_forces(rom, plan, &corrected, false).force, nw);
+    let f_rom = split(&contact_forces(rom, plan, &w, false).force, nw, 2 * hh + 1);
+    let f_new = split(&contact_forces(rom, plan, &corrected, false).force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }

@@ -18,11 +18,15 @@
 //! - [`error_metric`]: the error predictor `e*` (§10).
 //! - [`level`]: excitation levels, `alpha_ST` and the stuck limit (§11).
 //! - [`ffi`]: the C ABI; holds no numerics.
+//! - [`memory`], [`limits`]: the memory budget and the documented caps that sizes from
+//!   outside are checked against before anything is allocated.
 //!
 //! Units are the caller's; the built-in blade uses mm, tonne, s (so N and MPa). Frequencies in
 //! the library are angular (`omega`, rad/s) unless a name says `_hz`.
 
 pub mod error;
+pub mod limits;
+pub mod memory;
 pub mod linalg;
 pub mod model;
 pub mod contact;

@@ -22,7 +22,16 @@ pub mod serde_mat {
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Mat<f64>, D::Error> {
         let st = Stored::deserialize(d)?;
-        if st.data.len() != st.nrows * st.ncols {
+        // the shape is checked against the data (and the caps) before faer allocates anything:
+        // `2^32 x 2^32` with no data would overflow, `0 x 2^62` would loop for ever
+        let max = crate::limits::MAX_DENSE_DIM;
+        if st.nrows > max || st.ncols > max {
+            return Err(serde::de::Error::custom(format!(
+                "matrix of {} x {} is above jprom's limit of {max} rows or columns",
+                st.nrows, st.ncols
+            )));
+        }
+        if st.nrows.checked_mul(st.ncols) != Some(st.data.len()) {
             return Err(serde::de::Error::custom(format!(
                 "matrix data has {} entries, expected {} x {}",
                 st.data.len(),

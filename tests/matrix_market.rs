@@ -66,7 +66,8 @@ fn malformed_files_give_specific_errors() {
         (format!("{H}2 2 2\n1 1 1.0\n1 0 2.0\n"), 4, "column index 0 out of range"),
         (format!("{H}2 2 2\n1 1 abc\n2 2 1\n"), 3, "value 'abc' is not a number"),
         (format!("{H}2 2 2\n1 1 1\n2 2 nan\n"), 4, "not finite"),
-        (format!("{H}2 2 3\n1 1 1\n2 2 1\n"), 5, "missing entries: 3 declared, 2 found"),
+        // checked at the size line, before anything is allocated from it
+        (format!("{H}2 2 3\n1 1 1\n2 2 1\n"), 2, "missing entries: 3 declared, the file has 2 entry lines"),
         (format!("{H}2 2 1\n1 1 1\n2 2 1\n"), 4, "more entries than the 1 declared"),
         (format!("{H}2 2 1\n1 1\n"), 3, "entry must be 'row col value'"),
         (format!("{H}2 2 5\n"), 2, "5 entries cannot fit in 2 x 2"),

@@ -112,7 +112,15 @@ fn tick(v: f64, log: bool) -> String {
 /// # Errors
 /// [`JpError::Io`] if the file cannot be written.
 pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()> {
-    let root = SVGBackend::new(path, (760, 520)).into_drawing_area();
+    // drawn into memory, then written through `io::write_file`, which reports every write
+    // error (plotters' own file output drops the error of its last flush)
+    let mut svg = String::new();
+    draw_plot(&mut svg, path, spec, series)?;
+    crate::io::write_file(path, |w| w.write_all(svg.as_bytes()))
+}
+
+fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()> {
+    let root = SVGBackend::with_string(svg, (760, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (mut x0, mut x1) = range(all().map(|p| p.0), spec.log_x);

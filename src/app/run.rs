@@ -9,7 +9,7 @@ use crate::aft::AftPlan;
 use crate::cms::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
 use crate::contact::Contact;
 use crate::io::dof_map::DofMap;
-use crate::io::matrix_market::read_matrix_market;
+use crate::io::matrix_market::read_symmetric_matrix_market;
 use crate::condensation::CondensedSystem;
 use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
@@ -220,8 +220,8 @@ pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
     let ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } = &study.model else {
         return Err(JpError::invalid("model.kind", "not a matrix_market model"));
     };
-    let m = read_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
-    let k = read_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
+    let m = read_symmetric_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
+    let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
     let n = k.nrows();
     if k.ncols() != n {
         return Err(JpError::invalid("model.stiffness", format!("{}: not square ({} x {})", stiffness.display(), n, k.ncols())));
@@ -363,15 +363,17 @@ fn state_counts(p: &PointSolution) -> [usize; 3] {
 }
 
 fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Result<()> {
-    let io = |e: std::io::Error| JpError::Io { path: path.display().to_string(), reason: e.to_string() };
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+    crate::io::write_file(path, |f| write_csv_rows(f, res, errors))
+}
+
+fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> std::io::Result<()> {
     let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
     let mut header = String::from("freq_hz,X0,X1");
     for j in 1..n_out {
         header.push_str(&format!(",X1_out{j}"));
     }
     header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy,sweep_end");
-    writeln!(f, "{header}").map_err(io)?;
+    writeln!(f, "{header}")?;
     for (i, p) in res.points.iter().enumerate() {
         let mut line = format!("{:.6},{:.9e},{:.9e}", p.omega / TWO_PI, p.output_coeff(0, 0), p.output_amplitude(1, 0));
         for j in 1..n_out {
@@ -383,15 +385,17 @@ fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Res
         };
         let c = state_counts(p);
         line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
-        writeln!(f, "{line}").map_err(io)?;
+        writeln!(f, "{line}")?;
     }
     Ok(())
 }
 
 fn write_basis_study_csv(path: &Path, rows: &[BasisStudyRow]) -> Result<()> {
-    let io = |e: std::io::Error| JpError::Io { path: path.display().to_string(), reason: e.to_string() };
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-    writeln!(f, "level,solver,gamma,n_0,n_1,error_x1,error_x0,e_star_1,e_1").map_err(io)?;
+    crate::io::write_file(path, |f| write_basis_study_rows(f, rows))
+}
+
+fn write_basis_study_rows(f: &mut dyn Write, rows: &[BasisStudyRow]) -> std::io::Result<()> {
+    writeln!(f, "level,solver,gamma,n_0,n_1,error_x1,error_x0,e_star_1,e_1")?;
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.4e}")).unwrap_or_default();
     for r in rows {
         let n = |h: usize| r.sizes.get(h).copied().unwrap_or(0);
@@ -407,8 +411,7 @@ fn write_basis_study_csv(path: &Path, rows: &[BasisStudyRow]) -> Result<()> {
             opt(r.error_x0),
             opt(r.predicted_e1),
             opt(r.actual_e1)
-        )
-        .map_err(io)?;
+        )?;
     }
     Ok(())
 }
@@ -658,8 +661,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         basis_study,
         basis_study_seconds,
     };
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| JpError::Io { path: "summary.json".into(), reason: e.to_string() })?;
-    std::fs::write(out_dir.join("summary.json"), json).map_err(|e| JpError::Io { path: out_dir.join("summary.json").display().to_string(), reason: e.to_string() })?;
+    crate::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
     if study.output.plots {
         for (level, series) in &frf_series {
             let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");

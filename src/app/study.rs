@@ -4,7 +4,7 @@
 //! ```toml
 //! [model]
 //! kind = "blade"            # built-in shrouded blade, or "matrix_market" (see below)
-//! refinement = 1            # blade only: 1 -> 18 contact nodes, 2 -> ~200, 3 -> ~2,000
+//! refinement = 1            # blade only: 2 (2r + 1)^2 contact nodes: 1 -> 18, 5 -> 242, 15 -> 1,922 (at most 15)
 //! cb_modes = 50             # Craig-Bampton fixed-interface modes
 //! damping_ratio = 0.002     # modal damping ratio at the band centre (stiffness-proportional)
 //!
@@ -70,9 +70,14 @@
 //! magnitude = 1.0
 //! ```
 //!
-//! Unknown keys are errors, and every error names the offending key.
+//! Unknown keys are errors, and every error names the offending key and its line. Sizes have
+//! documented caps ([`crate::limits`]): `hbm.nt` <= 65536, `band.points` <= 100000,
+//! `basis.samples` <= 10000, `model.cb_modes` <= 5000, `model.refinement` <= 15.
 
+use crate::cms::BladeParams;
 use crate::error::{JpError, Result};
+use crate::io::locate::{json_line, key_path, toml_line};
+use crate::limits::{MAX_BAND_POINTS, MAX_BLADE_REFINEMENT, MAX_CB_MODES, MAX_NT, MAX_SAMPLES};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -536,7 +541,7 @@ impl Study {
             let inner = e.into_inner();
             parse_error(text, inner.span().map(|s| s.start), &format!("key '{key}': {}", inner.message()))
         })?;
-        study.validate()?;
+        study.check().map_err(|(key, reason)| study_error(toml_line(text, &key_path(&key)).unwrap_or(0), &key, &reason))?;
         Ok(study)
     }
 
@@ -548,17 +553,38 @@ impl Study {
             let inner = e.into_inner();
             JpError::Parse { path: "<study>".into(), line: inner.line(), reason: format!("key '{key}': {inner}") }
         })?;
-        study.validate()?;
+        study.check().map_err(|(key, reason)| study_error(json_line(text, &key_path(&key)).unwrap_or(0), &key, &reason))?;
         Ok(study)
     }
 
-    /// Range and consistency checks; each error names its key.
+    /// Range and consistency checks; each error names its key (the parsers
+    /// [`Study::from_toml_str`] and [`Study::from_json_str`] add its line).
     pub fn validate(&self) -> Result<()> {
-        let bad = |key: &str, reason: String| Err(JpError::Parse { path: "<study>".into(), line: 0, reason: format!("key '{key}': {reason}") });
+        self.check().map_err(|(key, reason)| study_error(0, &key, &reason))
+    }
+
+    /// [`Study::validate`] as the offending key and the reason.
+    fn check(&self) -> std::result::Result<(), (String, String)> {
+        let bad = |key: &str, reason: String| Err((key.to_string(), reason));
+        let over = |key: &str, value: usize, limit: usize, why: &str| Err((key.to_string(), format!("{value} is above jprom's limit of {limit} ({why})")));
         let (cb_modes, damping_ratio, contact) = match &self.model {
             ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
-                if !(1..=3).contains(refinement) {
-                    return bad("model.refinement", format!("must be 1, 2 or 3, got {refinement}"));
+                if *refinement > MAX_BLADE_REFINEMENT {
+                    return over("model.refinement", *refinement, MAX_BLADE_REFINEMENT, "15 gives 1,922 contact nodes and 140,658 FE DoFs");
+                }
+                // the library's own rules for the blade (refinement >= 1, positive contact law)
+                let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
+                if let Err(e) = params.validate() {
+                    let (key, reason) = match e {
+                        JpError::InvalidValue { what, reason } => (what, reason),
+                        other => ("blade".to_string(), other.to_string()),
+                    };
+                    let key = match key.strip_prefix("blade.") {
+                        Some(k @ ("mu" | "kt1" | "kt2" | "kn")) => format!("model.contact.{k}"),
+                        Some(k) => format!("model.{k}"),
+                        None => key,
+                    };
+                    return bad(&key, reason);
                 }
                 (*cb_modes, *damping_ratio, Some(contact))
             }
@@ -620,6 +646,9 @@ impl Study {
         if cb_modes == 0 {
             return bad("model.cb_modes", "must be at least 1".into());
         }
+        if cb_modes > MAX_CB_MODES {
+            return over("model.cb_modes", cb_modes, MAX_CB_MODES, "the reduced model is dense");
+        }
         if !(damping_ratio.is_finite() && damping_ratio >= 0.0) {
             return bad("model.damping_ratio", format!("must be finite and >= 0, got {damping_ratio}"));
         }
@@ -638,12 +667,18 @@ impl Study {
         if b.points < 2 {
             return bad("band.points", format!("must be at least 2, got {}", b.points));
         }
+        if b.points > MAX_BAND_POINTS {
+            return over("band.points", b.points, MAX_BAND_POINTS, "points per sweep");
+        }
         if !(1..=16).contains(&self.hbm.harmonics) {
             return bad("hbm.harmonics", format!("must be in 1..=16, got {}", self.hbm.harmonics));
         }
         let nt = self.hbm.nt;
         if !nt.is_power_of_two() || nt < 4 * (self.hbm.harmonics + 1) {
             return bad("hbm.nt", format!("must be a power of two >= 4 (harmonics + 1), got {nt}"));
+        }
+        if nt > MAX_NT {
+            return over("hbm.nt", nt, MAX_NT, "AFT samples per period");
         }
         if self.forcing.levels.is_empty() {
             return bad("forcing.levels", "needs at least one level".into());
@@ -658,6 +693,9 @@ impl Study {
         }
         if self.basis.samples < 2 {
             return bad("basis.samples", format!("must be at least 2, got {}", self.basis.samples));
+        }
+        if self.basis.samples > MAX_SAMPLES {
+            return over("basis.samples", self.basis.samples, MAX_SAMPLES, "amplitude samples of the prediction");
         }
         if !(self.basis.error_threshold.is_finite() && self.basis.error_threshold > 0.0) {
             return bad("basis.error_threshold", format!("must be finite and > 0, got {}", self.basis.error_threshold));
@@ -675,6 +713,11 @@ impl Study {
         }
         Ok(())
     }
+}
+
+/// A study error about `key` at `line` (0: no line, e.g. a study built in code).
+fn study_error(line: usize, key: &str, reason: &str) -> JpError {
+    JpError::Parse { path: "<study>".into(), line, reason: format!("key '{key}': {reason}") }
 }
 
 fn parse_error(text: &str, offset: Option<usize>, reason: &str) -> JpError {

@@ -14,11 +14,13 @@
 pub(crate) mod guard;
 pub(crate) mod handle;
 pub mod jp;
+pub mod limits;
 pub mod model;
 pub mod solve;
 pub mod status;
 
 pub use jp::*;
+pub use limits::*;
 pub use model::*;
 pub use solve::*;
 pub use status::*;

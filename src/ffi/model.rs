@@ -79,6 +79,8 @@ pub unsafe extern "C" fn jprom_model_new(
         let nn = mul_size("mass", n, n)?;
         let m = slice_arg(mass, nn, "mass")?;
         let k = slice_arg(stiffness, nn, "stiffness")?;
+        // the model keeps M and K dense, and its checks make a copy
+        crate::memory::check(&format!("a dense model of n = {n}"), crate::memory::bytes_of::<f64>(crate::memory::product(&[3, n, n])))?;
         let model = new_model(
             Mat::from_fn(n, n, |i, j| m[i + j * n]),
             Mat::from_fn(n, n, |i, j| k[i + j * n]),
@@ -248,8 +250,9 @@ pub unsafe extern "C" fn jprom_model_set_static_force(model: *mut jprom_model, f
 pub const JPROM_MAX_FORCE_HARMONIC: usize = 1024;
 
 /// Harmonic `h >= 1` of the excitation: `f(t) = cos_part cos(h omega t) + sin_part sin(h omega t)`
-/// (before the dynamic scale). Both arrays have length `n` (the model's DoF count); either may
-/// be NULL, meaning zero. Harmonics never set are zero.
+/// (before the dynamic scale). Both arrays have length `n`, which must be the model's DoF
+/// count (else `JPROM_BAD_SIZE`); either may be NULL, meaning zero. Harmonics never set are
+/// zero.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_model_set_harmonic_force(
     model: *mut jprom_model,
@@ -266,11 +269,16 @@ pub unsafe extern "C" fn jprom_model_set_harmonic_force(
                 format!("harmonic h = {h} must be in 1..={JPROM_MAX_FORCE_HARMONIC} (use jprom_model_set_static_force for h = 0)"),
             ));
         }
+        // the length is checked before anything is allocated from it
+        let n_dof = m.model.n_dof();
+        if n != n_dof {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("n = {n} must equal the model's DoF count {n_dof}")));
+        }
+        crate::memory::check("the harmonic forces", crate::memory::bytes_of::<f64>(crate::memory::product(&[2, h, n_dof])))?;
         let part = |p: *const f64, name: &str| -> std::result::Result<Vec<f64>, FfiError> {
             if p.is_null() { Ok(vec![0.0; n]) } else { Ok(slice_arg(p, n, name)?.to_vec()) }
         };
         let hf = HarmonicForce { cos: part(cos_part, "cos_part")?, sin: part(sin_part, "sin_part")? };
-        let n_dof = m.model.n_dof();
         let mut harmonics = m.model.excitation.harmonics.clone();
         while harmonics.len() < h {
             harmonics.push(HarmonicForce { cos: vec![0.0; n_dof], sin: vec![0.0; n_dof] });
@@ -402,7 +410,9 @@ pub unsafe extern "C" fn jprom_model_save_json(model: *const jprom_model, path: 
     })
 }
 
-/// Loads and validates a model saved by `jprom_model_save_json`. `*out` as for
+/// Loads and validates a model saved by `jprom_model_save_json`: `JPROM_IO` for a missing
+/// file, a directory or a file of another kind (it says which), `JPROM_PARSE` with the line for
+/// malformed JSON or an unknown key, the model checks' status otherwise. `*out` as for
 /// `jprom_model_new`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_model_load_json(path: *const c_char, out: *mut *mut jprom_model) -> jprom_status {

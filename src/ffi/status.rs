@@ -17,7 +17,8 @@ pub enum jprom_status {
     JPROM_OK = 0,
     /// A required pointer argument was NULL.
     JPROM_NULL_ARGUMENT = 1,
-    /// An array or matrix has the wrong size (or a size overflows).
+    /// An array or matrix has the wrong size, a size overflows, exceeds a documented
+    /// `JPROM_MAX_*` cap, or would need more memory than the budget (`jprom_set_memory_budget`).
     JPROM_BAD_SIZE = 2,
     /// A value is out of range: NaN, negative stiffness, DoF index too large, bad option, ...
     JPROM_INVALID_VALUE = 3,
@@ -67,6 +68,7 @@ pub(crate) fn status_of(e: &JpError) -> jprom_status {
         JpError::Parse { .. } => JPROM_PARSE,
         JpError::Cancelled => JPROM_CANCELLED,
         JpError::Eigen { .. } => JPROM_EIGEN,
+        JpError::TooLarge { .. } | JpError::OverLimit { .. } => JPROM_BAD_SIZE,
     }
 }
 
@@ -100,7 +102,12 @@ pub(crate) fn clear_last_error() {
 /// Turns the outcome of a guarded body into a status, recording the message on failure.
 pub(crate) fn finish(outcome: std::thread::Result<Result<(), FfiError>>) -> jprom_status {
     match outcome {
-        Ok(Ok(())) => jprom_status::JPROM_OK,
+        Ok(Ok(())) => {
+            // a nested jprom call made by a callback during this one may have failed: the
+            // message must describe this call, which succeeded
+            clear_last_error();
+            jprom_status::JPROM_OK
+        }
         Ok(Err(e)) => {
             set_last_error(&e.message);
             e.status

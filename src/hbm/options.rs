@@ -39,7 +39,8 @@ pub fn default_nt(harmonics: usize) -> usize {
     if harmonics <= 3 {
         64
     } else {
-        (16 * (harmonics + 1)).next_power_of_two()
+        // saturating: an absurd H gets an absurd nt, which `validate` then refuses
+        16usize.saturating_mul(harmonics.saturating_add(1)).checked_next_power_of_two().unwrap_or(usize::MAX)
     }
 }
 
@@ -69,15 +70,19 @@ impl HbmOptions {
         self.nt.unwrap_or_else(|| default_nt(self.harmonics))
     }
 
-    /// Checks ranges.
+    /// Checks ranges, and the sizes against jprom's caps ([`crate::limits::MAX_HARMONICS`],
+    /// [`crate::limits::MAX_NT`]) before anything is sized by them.
     ///
     /// # Errors
-    /// [`JpError::InvalidValue`] naming the bad option.
+    /// [`JpError::InvalidValue`] naming the bad option; [`JpError::OverLimit`] for a size
+    /// above its cap.
     pub fn validate(&self) -> Result<()> {
         if self.harmonics == 0 {
             return Err(JpError::invalid("HbmOptions.harmonics", "must be >= 1"));
         }
+        crate::limits::at_most("HbmOptions.harmonics", self.harmonics, crate::limits::MAX_HARMONICS)?;
         let nt = self.nt();
+        crate::limits::at_most("HbmOptions.nt", nt, crate::limits::MAX_NT)?;
         if !nt.is_power_of_two() || nt < 4 * (self.harmonics + 1) {
             return Err(JpError::invalid(
                 "HbmOptions.nt",

@@ -19,8 +19,9 @@
 //!   all): user node `id` (any integer, unique), `coords` in model units, and the 0-based row
 //!   indices of the node's `x, y, z` DoFs in the matrices (Matrix Market rows minus one).
 //!
-//! Errors: malformed JSON gives [`JpError::Parse`] with the line; a wrong `format`/`version`, a
-//! repeated id or DoF, or a DoF `>= n_dof` gives [`JpError::InvalidValue`] naming the node.
+//! Errors: malformed JSON or an unknown key gives [`JpError::Parse`] with the line; a wrong
+//! `format` (checked first: a jprom model file says so) or `version`, a repeated id or DoF,
+//! or a DoF `>= n_dof` gives [`JpError::InvalidValue`] naming the node.
 
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
@@ -33,6 +34,7 @@ pub const DOF_MAP_VERSION: u32 = 1;
 
 /// One node: user id, coordinates and its three DoFs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct NodeDofs {
     /// User node id.
     pub id: i64,
@@ -44,6 +46,7 @@ pub struct NodeDofs {
 
 /// A node/DoF map (see the module doc for the file format).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DofMap {
     /// Always [`DOF_MAP_FORMAT`].
     pub format: String,
@@ -71,8 +74,24 @@ impl DofMap {
     /// # Errors
     /// [`JpError::Parse`] for malformed JSON, else as [`DofMap::validate`].
     pub fn parse(text: &str, name: &str) -> Result<Self> {
-        let m: DofMap = serde_json::from_str(text)
-            .map_err(|e| JpError::Parse { path: name.to_string(), line: e.line(), reason: e.to_string() })?;
+        let perr = |e: serde_json::Error| JpError::Parse { path: name.to_string(), line: e.line(), reason: e.to_string() };
+        // the format tag first: a jprom model or sweep given as a DoF map says so
+        #[derive(Deserialize)]
+        struct Tag {
+            format: Option<String>,
+            kind: Option<String>,
+        }
+        let tag: Tag = serde_json::from_str(text).map_err(perr)?;
+        match (tag.format.as_deref(), tag.kind.as_deref()) {
+            (Some(DOF_MAP_FORMAT), _) => {}
+            (Some("jprom"), Some(kind)) => {
+                return Err(JpError::invalid("dof map format", format!("{name} is a jprom {kind} file, expected a DoF map ('{DOF_MAP_FORMAT}')")))
+            }
+            (other, _) => {
+                return Err(JpError::invalid("dof map format", format!("expected '{DOF_MAP_FORMAT}', got {}", other.map_or("no format".to_string(), |f| format!("'{f}'")))))
+            }
+        }
+        let m: DofMap = serde_json::from_str(text).map_err(perr)?;
         m.validate()?;
         Ok(m)
     }
@@ -82,8 +101,7 @@ impl DofMap {
     /// # Errors
     /// [`JpError::Io`] if unreadable, else as [`DofMap::parse`].
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })?;
+        let text = super::read_text(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -92,9 +110,7 @@ impl DofMap {
     /// # Errors
     /// [`JpError::Io`] if the file cannot be written.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let s = serde_json::to_string_pretty(self)
-            .map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })?;
-        std::fs::write(path, s).map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })
+        super::write_file(path, |w| serde_json::to_writer_pretty(&mut *w, self).map_err(std::io::Error::from))
     }
 
     /// Checks format, version, unique ids and DoFs, DoFs in range, finite coordinates.

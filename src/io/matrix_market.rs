@@ -1,16 +1,25 @@
 //! Matrix Market import and export of sparse FE matrices (`M`, `K`, optional `C`).
 //!
 //! Supported: `%%MatrixMarket matrix coordinate real|integer general|symmetric`, 1-based
-//! indices. A symmetric file stores the lower triangle only (an entry above the diagonal is
-//! an error); it is expanded to full storage on reading. Duplicate entries are summed (as most
-//! FE exporters expect). Unsupported (each a readable error): `array` format, `complex` and
-//! `pattern` fields, `skew-symmetric` and `hermitian` symmetry.
+//! indices. A `general` file is kept exactly as given, both triangles. A `symmetric` file
+//! stores the lower triangle only (an entry above the diagonal is an error, naming the
+//! lower-triangle value it would conflict with); it is expanded to full storage on reading.
+//! Duplicate entries are summed (as most FE exporters expect). Unsupported (each a readable
+//! error): `array` format, `complex` and `pattern` fields, `skew-symmetric` and `hermitian`
+//! symmetry.
+//!
+//! Sizes are checked before anything is allocated: the declared entry count against the
+//! lines the file has, and the storage against the memory budget ([`crate::memory`]).
+//! Matrices used as symmetric (`M`, `K`: [`read_symmetric_matrix_market`]) must be square,
+//! have at least one entry per row, and be symmetric; a `general` one that is not is refused
+//! with the first offending pair of entries.
 //!
 //! Every malformed file gives [`JpError::Parse`] with the 1-based line number and the reason;
 //! nothing panics on bad input.
 
 use crate::cms::{sparse_from_triplets, sparse_triplets, SparseMat};
 use crate::error::{JpError, Result};
+use crate::model::SYMMETRY_TOLERANCE;
 use std::path::Path;
 
 fn perr(path: &str, line: usize, reason: impl Into<String>) -> JpError {
@@ -20,18 +29,61 @@ fn perr(path: &str, line: usize, reason: impl Into<String>) -> JpError {
 /// Reads a Matrix Market coordinate file into a CSC matrix (full storage).
 ///
 /// # Errors
-/// [`JpError::Io`] if the file cannot be read, [`JpError::Parse`] if it is malformed.
+/// [`JpError::Io`] if the file cannot be read, [`JpError::Parse`] if it is malformed,
+/// [`JpError::TooLarge`] if its storage would exceed the memory budget.
 pub fn read_matrix_market(path: &Path) -> Result<SparseMat> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })?;
+    let text = super::read_text(path)?;
     parse_matrix_market(&text, &path.display().to_string())
+}
+
+/// Reads a matrix that is used as symmetric (a mass or stiffness matrix): as
+/// [`read_matrix_market`], and the matrix must be square with at least one entry per row
+/// (checked from the size line, before reading the entries) and symmetric to
+/// [`SYMMETRY_TOLERANCE`] relative to its largest entry.
+///
+/// # Errors
+/// As [`read_matrix_market`]; [`JpError::Parse`] for a non-square matrix, too few entries, or
+/// a `general` matrix that is not symmetric (naming the entry, its value and its mirror's).
+pub fn read_symmetric_matrix_market(path: &Path) -> Result<SparseMat> {
+    let text = super::read_text(path)?;
+    parse_symmetric_matrix_market(&text, &path.display().to_string())
+}
+
+/// [`read_symmetric_matrix_market`] on a text; `name` is used in error messages.
+///
+/// # Errors
+/// As [`read_symmetric_matrix_market`].
+pub fn parse_symmetric_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
+    let a = parse(text, name, true)?;
+    check_symmetric(&a, name)?;
+    Ok(a)
 }
 
 /// Parses Matrix Market text; `name` is used in error messages.
 ///
 /// # Errors
-/// [`JpError::Parse`] with the line number and reason for a malformed text.
+/// [`JpError::Parse`] with the line number and reason for a malformed text;
+/// [`JpError::TooLarge`] if its storage would exceed the memory budget.
 pub fn parse_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
+    parse(text, name, false)
+}
+
+/// Whether a line holds data (not blank, not a comment).
+fn is_data(l: &str) -> bool {
+    let t = l.trim();
+    !t.is_empty() && !t.starts_with('%')
+}
+
+/// Bytes of the triplets and the CSC storage of `entries` values in a matrix of `ncols`.
+fn storage_bytes(entries: usize, ncols: usize) -> u128 {
+    use crate::memory::{bytes_of, product};
+    // triplets (row, col, value), then CSC: column pointers, row indices and values
+    bytes_of::<(usize, usize, f64)>(entries as u128)
+        .saturating_add(bytes_of::<usize>(ncols as u128 + 1))
+        .saturating_add(product(&[entries, 16]))
+}
+
+fn parse(text: &str, name: &str, structural: bool) -> Result<SparseMat> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let (_, header) = lines.next().ok_or_else(|| perr(name, 1, "empty file (expected a %%MatrixMarket header)"))?;
     let h: Vec<String> = header.split_whitespace().map(|s| s.to_ascii_lowercase()).collect();
@@ -68,11 +120,10 @@ pub fn parse_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
     let mut last_line = 1;
     for (ln, l) in lines.by_ref() {
         last_line = ln;
-        let t = l.trim();
-        if t.is_empty() || t.starts_with('%') {
+        if !is_data(l) {
             continue;
         }
-        let f: Vec<&str> = t.split_whitespace().collect();
+        let f: Vec<&str> = l.split_whitespace().collect();
         if f.len() != 3 {
             return Err(perr(name, ln, format!("size line must have 3 integers (rows cols entries), got {} fields", f.len())));
         }
@@ -86,23 +137,47 @@ pub fn parse_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
         size = Some((v[0], v[1], v[2], ln));
         break;
     }
-    let (nrows, ncols, nnz, _) = size.ok_or_else(|| perr(name, last_line + 1, "missing size line (rows cols entries)"))?;
-    if nnz > nrows.saturating_mul(ncols) {
-        return Err(perr(name, last_line, format!("wrong counts: {nnz} entries cannot fit in {nrows} x {ncols}")));
+    let (nrows, ncols, nnz, size_line) = size.ok_or_else(|| perr(name, last_line + 1, "missing size line (rows cols entries)"))?;
+    if nnz as u128 > crate::memory::product(&[nrows, ncols]) {
+        return Err(perr(name, size_line, format!("wrong counts: {nnz} entries cannot fit in {nrows} x {ncols}")));
     }
+    if structural {
+        if nrows != ncols {
+            return Err(perr(name, size_line, format!("a mass or stiffness matrix must be square, got {nrows} x {ncols}")));
+        }
+        if nnz < nrows {
+            return Err(perr(
+                name,
+                size_line,
+                format!("{nrows} x {ncols} with {nnz} entries: a mass or stiffness matrix needs at least one entry per row (its diagonal), so at least {nrows}"),
+            ));
+        }
+    }
+    // the declared count against the lines there are, then the storage against the budget,
+    // before anything is allocated from the size line
+    let entry_lines = text.lines().skip(size_line).filter(|l| is_data(l)).count();
+    if nnz > entry_lines {
+        return Err(perr(name, size_line, format!("missing entries: {nnz} declared, the file has {entry_lines} entry lines")));
+    }
+    let stored = if symmetric { nnz.saturating_mul(2) } else { nnz };
+    crate::memory::check(&format!("the {nrows} x {ncols} matrix of {name} ({nnz} entries)"), storage_bytes(stored, ncols))?;
 
-    let mut triplets = Vec::with_capacity(if symmetric { 2 * nnz } else { nnz });
+    let mut triplets = Vec::new();
+    triplets
+        .try_reserve_exact(stored)
+        .map_err(|_| JpError::TooLarge { what: format!("the entries of {name}"), bytes: storage_bytes(stored, ncols), budget: crate::memory::MemoryBudget::global().bytes })?;
+    // first entry above the diagonal of a symmetric file: (row, col, value, line)
+    let mut upper: Option<(usize, usize, f64, usize)> = None;
     let mut count = 0usize;
     for (ln, l) in lines {
         last_line = ln;
-        let t = l.trim();
-        if t.is_empty() || t.starts_with('%') {
+        if !is_data(l) {
             continue;
         }
         if count == nnz {
             return Err(perr(name, ln, format!("wrong counts: more entries than the {nnz} declared")));
         }
-        let f: Vec<&str> = t.split_whitespace().collect();
+        let f: Vec<&str> = l.split_whitespace().collect();
         if f.len() != 3 {
             return Err(perr(name, ln, format!("entry must be 'row col value', got {} fields", f.len())));
         }
@@ -119,25 +194,74 @@ pub fn parse_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
         if !v.is_finite() {
             return Err(perr(name, ln, format!("value '{}' is not finite", f[2])));
         }
+        count += 1;
         if symmetric {
             if i < j {
-                return Err(perr(
-                    name,
-                    ln,
-                    format!("entry ({}, {}) above the diagonal in a symmetric file (store the lower triangle)", i + 1, j + 1),
-                ));
+                upper.get_or_insert((i, j, v, ln));
+                continue;
             }
             if i != j {
                 triplets.push((j, i, v));
             }
         }
         triplets.push((i, j, v));
-        count += 1;
     }
     if count < nnz {
         return Err(perr(name, last_line + 1, format!("missing entries: {nnz} declared, {count} found")));
     }
+    if let Some((i, j, v, ln)) = upper {
+        // the lower-triangle value at (j, i), summed over duplicates, if the file gives one
+        let mirror: Vec<f64> = triplets.iter().filter(|t| t.0 == j && t.1 == i).map(|t| t.2).collect();
+        let reason = if mirror.is_empty() {
+            format!("entry ({}, {}) = {v:e} above the diagonal in a symmetric file (store the lower triangle only)", i + 1, j + 1)
+        } else {
+            let w: f64 = mirror.iter().sum();
+            format!(
+                "entry ({}, {}) = {v:e} above the diagonal in a symmetric file, which also gives ({}, {}) = {w:e}{} (store the lower triangle only)",
+                i + 1,
+                j + 1,
+                j + 1,
+                i + 1,
+                if w == v { "" } else { ": the two conflict" }
+            )
+        };
+        return Err(perr(name, ln, reason));
+    }
     sparse_from_triplets(nrows, ncols, triplets).map_err(|e| perr(name, 0, e.to_string()))
+}
+
+/// A square matrix must equal its transpose to [`SYMMETRY_TOLERANCE`] times its largest
+/// entry; else the first (by column) offending pair is named, 1-based.
+fn check_symmetric(a: &SparseMat, name: &str) -> Result<()> {
+    let tr = sparse_triplets(a);
+    let max = tr.iter().fold(0.0f64, |m, t| m.max(t.2.abs()));
+    let tol = SYMMETRY_TOLERANCE * max;
+    let at = sparse_from_triplets(a.ncols(), a.nrows(), tr.iter().map(|&(i, j, v)| (j, i, v)).collect())?;
+    let value = |m: &SparseMat, i: usize, j: usize| -> f64 {
+        let m = m.as_ref();
+        let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
+        (cp[j]..cp[j + 1]).find(|&k| ri[k] == i).map_or(0.0, |k| v[k])
+    };
+    for &(i, j, v) in &tr {
+        let w = value(&at, i, j); // = a(j, i)
+        if (v - w).abs() > tol {
+            return Err(perr(
+                name,
+                0,
+                format!(
+                    "used as symmetric but not symmetric: entry ({}, {}) = {v:e} while ({}, {}) = {w:e}{} (relative tolerance {SYMMETRY_TOLERANCE:e})",
+                    i + 1,
+                    j + 1,
+                    j + 1,
+                    i + 1,
+                    if w == 0.0 { " (not given)" } else { "" }
+                ),
+            ));
+        }
+    }
+    // entries present only in the transpose are covered: (i, j) missing means a(j, i) != 0 is
+    // met as its own triplet above, against a(i, j) = 0
+    Ok(())
 }
 
 /// Formats a matrix as Matrix Market text. With `symmetric`, only the lower triangle is
@@ -179,7 +303,7 @@ pub fn format_matrix_market(a: &SparseMat, symmetric: bool) -> Result<String> {
 /// [`JpError::Io`] if the file cannot be written, or as [`format_matrix_market`].
 pub fn write_matrix_market(path: &Path, a: &SparseMat, symmetric: bool) -> Result<()> {
     let s = format_matrix_market(a, symmetric)?;
-    std::fs::write(path, s).map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })
+    super::write_file(path, |w| w.write_all(s.as_bytes()))
 }
 
 /// Structural matrices read from Matrix Market files.
@@ -193,14 +317,15 @@ pub struct StructuralMatrices {
     pub damping: Option<SparseMat>,
 }
 
-/// Reads `M`, `K` and optionally `C`, and checks they are square and of one size.
+/// Reads `M`, `K` and optionally `C` (each used as symmetric:
+/// [`read_symmetric_matrix_market`]), and checks they are of one size.
 ///
 /// # Errors
 /// As [`read_matrix_market`]; [`JpError::BadSize`] if the sizes disagree.
 pub fn read_structural_matrices(mass: &Path, stiffness: &Path, damping: Option<&Path>) -> Result<StructuralMatrices> {
-    let m = read_matrix_market(mass)?;
-    let k = read_matrix_market(stiffness)?;
-    let c = damping.map(read_matrix_market).transpose()?;
+    let m = read_symmetric_matrix_market(mass)?;
+    let k = read_symmetric_matrix_market(stiffness)?;
+    let c = damping.map(read_symmetric_matrix_market).transpose()?;
     let n = k.nrows();
     for (what, a) in [("stiffness", Some(&k)), ("mass", Some(&m)), ("damping", c.as_ref())] {
         if let Some(a) = a {

@@ -72,6 +72,11 @@ impl Excitation {
     }
 
     /// Sets `dynamic_scale` so that `level()` equals `alpha`.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] if `alpha` is not finite and positive, if the static or the
+    /// first-harmonic force is zero, or if the resulting scale is not finite and positive
+    /// (e.g. `alpha = 1e-320`); the scale is unchanged then.
     pub fn set_level(&mut self, alpha: f64) -> Result<()> {
         if !(alpha.is_finite() && alpha > 0.0) {
             return Err(JpError::invalid("excitation level", format!("must be finite and > 0, got {alpha}")));
@@ -84,7 +89,16 @@ impl Excitation {
         if f1 == 0.0 || f0 == 0.0 {
             return Err(JpError::invalid("excitation level", "needs nonzero static and first-harmonic forces"));
         }
-        self.dynamic_scale = f0 / (alpha * f1);
+        // alpha = 1e-320 (subnormal) would give an infinite scale, a huge alpha a zero one:
+        // either would make every later solve fail, so the level is refused instead
+        let scale = f0 / (alpha * f1);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(JpError::invalid(
+                "excitation level",
+                format!("alpha = {alpha:e} gives the dynamic scale |f_E^0| / (alpha |f_E^1|) = {scale:e}, which must be finite and > 0"),
+            ));
+        }
+        self.dynamic_scale = scale;
         Ok(())
     }
 }
@@ -177,7 +191,13 @@ impl Model {
         let mut role = vec![0u8; n]; // 1 = a node, 2 = b node
         for (i, c) in self.contacts.iter().enumerate() {
             c.validate(i, n)?;
-            for &dof in &c.dofs_a {
+            for (k, &dof) in c.dofs_a.iter().enumerate() {
+                if c.dofs_a[..k].contains(&dof) {
+                    return Err(JpError::invalid(
+                        format!("contact[{i}].dofs_a"),
+                        format!("DoF {dof} is repeated within the node ({:?}): a node's x, y, z DoFs must differ", c.dofs_a),
+                    ));
+                }
                 if role[dof] != 0 {
                     return Err(JpError::invalid(
                         format!("contact[{i}].dofs_a"),
@@ -188,7 +208,14 @@ impl Model {
             }
         }
         for (i, c) in self.contacts.iter().enumerate() {
-            for &dof in c.dofs_b.iter().flatten() {
+            let b = c.dofs_b.as_deref().unwrap_or(&[]);
+            if let Some(k) = (1..b.len()).find(|&k| b[..k].contains(&b[k])) {
+                return Err(JpError::invalid(
+                    format!("contact[{i}].dofs_b"),
+                    format!("DoF {} is repeated within the node ({b:?}): a node's x, y, z DoFs must differ", b[k]),
+                ));
+            }
+            for &dof in b {
                 if role[dof] == 1 {
                     return Err(JpError::invalid(
                         format!("contact[{i}].dofs_b"),
@@ -217,10 +244,8 @@ impl Model {
         crate::io::save_json("model", self, path)
     }
 
-    /// Loads from JSON and validates.
+    /// Loads from JSON (kind checked first, unknown keys refused) and validates.
     pub fn load_json(path: &std::path::Path) -> Result<Self> {
-        let m: Model = crate::io::load_json("model", path)?;
-        m.validate()?;
-        Ok(m)
+        crate::io::load_document(path)
     }
 }

@@ -256,7 +256,7 @@ pub fn adaptive_sweep_with_progress(
         return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
     }
     let coords = ContactCoordinates::new(model, hopts.harmonics)?;
-    let checkable = (2 * hopts.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS;
+    let checkable = coords.n_w > 0 && (2 * hopts.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS;
     let condensed = if aopts.kind == RomKind::Nlr || (aopts.verify && checkable) { Some(CondensedSystem::new(model, hopts)?) } else { None };
     let check_with = if aopts.verify && checkable { condensed.as_ref() } else { None };
     let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
