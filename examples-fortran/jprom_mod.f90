@@ -12,6 +12,9 @@ module jprom_c
   implicit none
   integer(c_int), parameter :: JPROM_OK = 0
   integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
+  !> Why a sweep ended (jprom_sweep_end in C).
+  integer(c_int), parameter :: JPROM_SWEEP_REACHED_END = 0, JPROM_SWEEP_STALLED = 1, JPROM_SWEEP_POINT_CAP = 2, &
+                               JPROM_SWEEP_LEFT_BAND = 3, JPROM_SWEEP_CANCELLED = 4
 
   type, bind(C) :: jprom_hbm_options
     integer(c_size_t) :: struct_size
@@ -99,6 +102,18 @@ module jprom_c
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
     end function
+    integer(c_int) function jprom_sweep_end_reason(sweep, out) bind(C, name="jprom_sweep_end_reason")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_int), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_failure_copy(sweep, buf, len, written) bind(C, name="jprom_sweep_failure_copy")
+      import :: c_int, c_size_t, c_ptr, c_char
+      type(c_ptr), value :: sweep
+      character(kind=c_char), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: written
+    end function
     integer(c_int) function jprom_sweep_n_points(sweep, out) bind(C, name="jprom_sweep_n_points")
       import :: c_int, c_size_t, c_ptr
       type(c_ptr), value :: sweep
@@ -182,10 +197,14 @@ end module jprom_c
 
 module jprom
   use, intrinsic :: iso_c_binding
-  use jprom_c, only: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, JPROM_OK, JPROM_ROM_FR, JPROM_ROM_NLR
+  use jprom_c, only: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, JPROM_OK, JPROM_ROM_FR, JPROM_ROM_NLR, &
+                     JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
+                     JPROM_SWEEP_CANCELLED
   implicit none
   private
   public :: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, JPROM_OK, JPROM_ROM_FR, JPROM_ROM_NLR
+  public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
+            JPROM_SWEEP_CANCELLED, jp_sweep_end
   public :: jp_model_new, jp_model_free, jp_add_ground_contact, jp_set_damping, jp_set_first_harmonic_force, &
             jp_set_outputs, jp_default_options, jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_point, &
             jp_sweep_point_coeffs, jp_last_error
@@ -312,6 +331,28 @@ contains
     integer(c_size_t) :: m
     jp_sweep_n_points = int(jprom_sweep_n_points(sweep, m))
     n = int(m)
+  end function
+
+  !> Why the sweep ended (JPROM_SWEEP_REACHED_END, _STALLED, _POINT_CAP, _LEFT_BAND, _CANCELLED)
+  !> and, unless it reached the end, where and why in words (truncated to len(why)).
+  integer function jp_sweep_end(sweep, reason, why)
+    use jprom_c, only: jprom_sweep_end_reason, jprom_sweep_failure_copy
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: reason
+    character(len=*), intent(out) :: why
+    character(kind=c_char) :: buf(len(why) + 1)
+    integer(c_size_t) :: written
+    integer(c_int) :: r
+    integer :: k
+    why = ''
+    jp_sweep_end = int(jprom_sweep_end_reason(sweep, r))
+    reason = int(r)
+    if (jp_sweep_end /= JPROM_OK) return
+    ! a truncated copy is still a good prefix (the status then says JPROM_BAD_SIZE)
+    k = int(jprom_sweep_failure_copy(sweep, buf, int(size(buf), c_size_t), written))
+    do k = 1, min(len(why), int(written))
+      why(k:k) = buf(k)
+    end do
   end function
 
   !> Point i (1-based): angular frequency and first-harmonic amplitude at each output (1..size(amps)).

@@ -109,6 +109,21 @@ typedef enum {
   JPROM_PARSE = 11,
 } jprom_status;
 
+// Why a sweep ended (`jprom_sweep_end_reason`). The values never change.
+typedef enum {
+  // The branch reached `omega_end`.
+  JPROM_SWEEP_REACHED_END = 0,
+  // The corrector could not converge even at the smallest step (`min_step`), after any
+  // restarts: the text of `jprom_sweep_failure_copy` has where and the last residual.
+  JPROM_SWEEP_STALLED = 1,
+  // `max_points` points were computed before reaching `omega_end`.
+  JPROM_SWEEP_POINT_CAP = 2,
+  // The branch turned back at a fold and left the band behind `omega_start`.
+  JPROM_SWEEP_LEFT_BAND = 3,
+  // The progress callback asked to stop.
+  JPROM_SWEEP_CANCELLED = 4,
+} jprom_sweep_end;
+
 // A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
 typedef struct jprom_basis jprom_basis;
 
@@ -507,7 +522,16 @@ jprom_status jprom_sweep_free(jprom_sweep_result *sweep);
 // Number of converged points in a sweep.
 jprom_status jprom_sweep_n_points(const jprom_sweep_result *sweep, size_t *out);
 
-// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
+// Why the sweep ended (`JPROM_SWEEP_REACHED_END` if it covered the band); the words, with
+// where it stopped, come from `jprom_sweep_failure_copy`.
+jprom_status jprom_sweep_end_reason(const jprom_sweep_result *sweep, jprom_sweep_end *out);
+
+// A short name for a `jprom_sweep_end` value ("reached_end", "stalled", "point_cap",
+// "left_band", "cancelled"; "unknown" for any other value). Static storage: do not free.
+const char *jprom_sweep_end_name(int reason);
+
+// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_end_reason`
+// and `jprom_sweep_failure_copy`).
 jprom_status jprom_sweep_reached_end(const jprom_sweep_result *sweep, int *out);
 
 // Copies why the sweep ended early (empty if it did not) into `buf`, like

@@ -14,7 +14,7 @@ use crate::condensation::CondensedSystem;
 use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
 use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
-use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
+use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
 use crate::level::stuck_limit;
 use crate::jp::prediction::PredictionOptions;
 use crate::jp::{predict_basis, JpBasis};
@@ -447,7 +447,8 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let build_seconds = t.elapsed().as_secs_f64();
     let mut rows = Vec::new();
     // about `points` points where the response is smooth, more at resonances and folds
-    let sopts = SweepOptions { max_points: (20 * study.band.points).clamp(1000, 100_000), ..SweepOptions::with_points(band.0, band.1, study.band.points) };
+    let sopts = study.band.sweep_options();
+    sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
     // per level: the FO peak's energies per contact and each ROM's there, for the energy errors
     let mut energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
     let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();

@@ -11,7 +11,8 @@
 //! [band]
 //! hz_start = 2140.0
 //! hz_end = 2190.0
-//! points = 200              # target number of points per sweep
+//! points = 200              # target number of points per sweep (more at resonances)
+//! # optional continuation keys: min_step, max_step (scaled arclength), max_angle (rad), max_points
 //!
 //! [hbm]
 //! harmonics = 1
@@ -391,11 +392,48 @@ pub struct BandSpec {
     pub hz_start: f64,
     pub hz_end: f64,
     pub points: usize,
+    /// Continuation steps in the scaled arclength, the largest turn between chords, and the
+    /// point cap of each sweep; unset keys take [`crate::hbm::SweepOptions`]' defaults (the cap:
+    /// 20 x `points`, within 1,000 and 100,000).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_step: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_step: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_angle: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_points: Option<usize>,
 }
 
 impl Default for BandSpec {
     fn default() -> Self {
-        BandSpec { hz_start: 2140.0, hz_end: 2190.0, points: 200 }
+        BandSpec { hz_start: 2140.0, hz_end: 2190.0, points: 200, min_step: None, max_step: None, max_angle: None, max_points: None }
+    }
+}
+
+impl BandSpec {
+    /// The continuation settings of the band (rad/s): about `points` points where the response
+    /// is smooth, more at resonances and folds, and the keys given.
+    pub fn sweep_options(&self) -> crate::hbm::SweepOptions {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let mut s = crate::hbm::SweepOptions {
+            max_points: (20 * self.points).clamp(1000, 100_000),
+            ..crate::hbm::SweepOptions::with_points(two_pi * self.hz_start, two_pi * self.hz_end, self.points)
+        };
+        if let Some(v) = self.min_step {
+            s.min_step = v;
+        }
+        if let Some(v) = self.max_step {
+            s.max_step = v;
+        }
+        s.initial_step = s.initial_step.clamp(s.min_step.min(s.max_step), s.max_step);
+        if let Some(v) = self.max_angle {
+            s.max_angle = v;
+        }
+        if let Some(v) = self.max_points {
+            s.max_points = v;
+        }
+        s
     }
 }
 

@@ -47,7 +47,7 @@ pub const JPROM_ROM_NLR: c_int = 1;
 /// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
 /// `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
 /// with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
-/// AFT samples.
+/// AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_basis_predict(
     model: *const jprom_model,
@@ -69,6 +69,7 @@ pub unsafe extern "C" fn jprom_basis_predict(
         p.harmonics = hopts.harmonics;
         p.nt = hopts.nt;
         p.gamma = finite_arg("gamma", gamma)?;
+        crate::limits::at_most("n_samples", n_samples, crate::limits::MAX_SAMPLES)?;
         p.n_samples = n_samples;
         let (basis, _) = predict_basis(&coords, &p)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
@@ -106,12 +107,13 @@ pub unsafe extern "C" fn jprom_basis_save_json(basis: *const jprom_basis, path: 
     })
 }
 
-/// Loads a basis saved by `jprom_basis_save_json`.
+/// Loads a basis saved by `jprom_basis_save_json`, checked as a whole (every matrix against
+/// `n_dof` and `sizes`; `JPROM_PARSE` naming the key and line otherwise).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_basis_load_json(path: *const c_char, out: *mut *mut jprom_basis) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let basis = JpBasis::load_json(&path_arg(path, "path")?)?;
+        let basis: JpBasis = crate::io::load_document(&path_arg(path, "path")?)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -196,7 +198,8 @@ pub struct jprom_jp_options {
     /// Conditioning ratio `gamma >= 1` of the SVD (default 1e3; typically 1e2 to 1e4, larger
     /// is bigger and more accurate).
     pub gamma: f64,
-    /// Amplitudes sampled along the generating shape by the prediction (default 100, >= 1).
+    /// Amplitudes sampled along the generating shape by the prediction (default 100, >= 1,
+    /// at most `JPROM_MAX_SAMPLES`).
     pub n_samples: usize,
     /// Eigenpairs kept outside the band as well, nearest first (default 2).
     pub extra_outside: usize,
@@ -247,6 +250,7 @@ unsafe fn jp_options_arg<'a>(p: *const jprom_jp_options) -> Result<&'a jprom_jp_
     finite_arg("threshold", o.threshold)?;
     finite_arg("gamma_growth", o.gamma_growth)?;
     finite_arg("max_gamma", o.max_gamma)?;
+    crate::limits::at_most("jprom_jp_options.n_samples", o.n_samples, crate::limits::MAX_SAMPLES)?;
     if o.max_gamma < o.gamma {
         return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
     }
@@ -375,7 +379,8 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         let kind = rom_kind(kind)?;
         let hopts = hbm_options(o)?;
         let sopts = sweep_options(so)?;
-        let pred = prediction_options(jo, &hopts, (sopts.omega_start, sopts.omega_end));
+        // the JP band is the band swept, whichever way it is swept
+        let pred = prediction_options(jo, &hopts, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
         let aopts = AdaptiveOptions {
             kind,
             threshold: jo.threshold,

@@ -19,9 +19,11 @@ use std::ops::ControlFlow;
 #[allow(non_camel_case_types)]
 pub struct jprom_hbm_options {
     pub struct_size: usize,
-    /// Highest harmonic H (default 1); the static term is always included.
+    /// Highest harmonic H (default 1, at most `JPROM_MAX_HARMONICS`); the static term is
+    /// always included.
     pub harmonics: usize,
-    /// AFT samples per period; 0 (default) = 64 for H <= 3, more above.
+    /// AFT samples per period, a power of two >= 4 (H + 1) and at most `JPROM_MAX_NT`;
+    /// 0 (default) = 64 for H <= 3, more above.
     pub nt: usize,
     /// Relative residual tolerance (default 1e-10).
     pub residual_tolerance: f64,
@@ -183,7 +185,19 @@ pub(crate) fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, Ffi
     Ok(s)
 }
 
+/// Refuses a solve whose dense Jacobian alone (`(2H + 1) n` unknowns squared, `n` the model's
+/// DoFs, or its contact coordinates when condensed) would exceed the memory budget.
+fn check_system_memory(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<(), FfiError> {
+    let m = &model.model;
+    let n = if condensed != 0 { m.contacts.iter().map(|c| c.dim()).sum() } else { m.n_dof() };
+    let unknowns = crate::memory::product(&[2 * opts.harmonics + 1, n]);
+    let what = format!("the harmonic-balance Jacobian ({unknowns} unknowns at H = {})", opts.harmonics);
+    crate::memory::check(&what, crate::memory::bytes_of::<f64>(unknowns.saturating_mul(unknowns)))?;
+    Ok(())
+}
+
 fn system(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
+    check_system_memory(model, opts, condensed)?;
     Ok(if condensed != 0 {
         Box::new(CondensedSystem::new(&model.model, opts)?)
     } else {
@@ -301,7 +315,63 @@ pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, 
     })
 }
 
-/// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_failure_copy`).
+/// Why a sweep ended (`jprom_sweep_end_reason`). The values never change.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum jprom_sweep_end {
+    /// The branch reached `omega_end`.
+    JPROM_SWEEP_REACHED_END = 0,
+    /// The corrector could not converge even at the smallest step (`min_step`), after any
+    /// restarts: the text of `jprom_sweep_failure_copy` has where and the last residual.
+    JPROM_SWEEP_STALLED = 1,
+    /// `max_points` points were computed before reaching `omega_end`.
+    JPROM_SWEEP_POINT_CAP = 2,
+    /// The branch turned back at a fold and left the band behind `omega_start`.
+    JPROM_SWEEP_LEFT_BAND = 3,
+    /// The progress callback asked to stop.
+    JPROM_SWEEP_CANCELLED = 4,
+}
+
+impl From<SweepEnd> for jprom_sweep_end {
+    fn from(e: SweepEnd) -> Self {
+        match e {
+            SweepEnd::ReachedEnd => jprom_sweep_end::JPROM_SWEEP_REACHED_END,
+            SweepEnd::StepTooSmall => jprom_sweep_end::JPROM_SWEEP_STALLED,
+            SweepEnd::MaxPoints => jprom_sweep_end::JPROM_SWEEP_POINT_CAP,
+            SweepEnd::LeftBand => jprom_sweep_end::JPROM_SWEEP_LEFT_BAND,
+            SweepEnd::StoppedByCaller => jprom_sweep_end::JPROM_SWEEP_CANCELLED,
+        }
+    }
+}
+
+/// Why the sweep ended (`JPROM_SWEEP_REACHED_END` if it covered the band); the words, with
+/// where it stopped, come from `jprom_sweep_failure_copy`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_end_reason(sweep: *const jprom_sweep_result, out: *mut jprom_sweep_end) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.result.end.into();
+        Ok(())
+    })
+}
+
+/// A short name for a `jprom_sweep_end` value ("reached_end", "stalled", "point_cap",
+/// "left_band", "cancelled"; "unknown" for any other value). Static storage: do not free.
+#[no_mangle]
+pub extern "C" fn jprom_sweep_end_name(reason: c_int) -> *const c_char {
+    let name: &'static [u8] = match reason {
+        0 => b"reached_end\0",
+        1 => b"stalled\0",
+        2 => b"point_cap\0",
+        3 => b"left_band\0",
+        4 => b"cancelled\0",
+        _ => b"unknown\0",
+    };
+    name.as_ptr() as *const c_char
+}
+
+/// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_end_reason`
+/// and `jprom_sweep_failure_copy`).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
     ffi_guard!({
@@ -348,7 +418,10 @@ pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, ind
     ffi_guard!({
         let origin = handle::get(sweep, "sweep")?.origin;
         let p = sweep_point(sweep, index)?.clone();
-        *out_arg(out, "out")? = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p, origin });
+        // the out pointer is checked before the handle is registered (an assignment evaluates
+        // its right side first: a NULL `out` leaked a live handle)
+        let out = out_arg(out, "out")?;
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point: p, origin });
         Ok(())
     })
 }
@@ -535,14 +608,16 @@ pub unsafe extern "C" fn jprom_solution_save_json(solution: *const jprom_solutio
     })
 }
 
-/// Loads a solution saved by `jprom_solution_save_json`. The file does not say whether the
+/// Loads a solution saved by `jprom_solution_save_json`, checked as a whole (every size
+/// against every array; `JPROM_PARSE` naming the key and line otherwise; `JPROM_IO` for a
+/// file of another kind or a directory). The file does not say whether the
 /// solution is full-order or reduced: `jprom_basis_from_solution` and `jprom_rom_actual_error`
 /// check a loaded solution's sizes only.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let point: PointSolution = crate::io::load_json("solution", &path_arg(path, "path")?)?;
+        let point: PointSolution = crate::io::load_document(&path_arg(path, "path")?)?;
         *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::Unknown });
         Ok(())
     })
@@ -558,14 +633,15 @@ pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result,
     })
 }
 
-/// Loads a sweep saved by `jprom_sweep_save_json`. `*out` is written only on success; free
+/// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
+/// `jprom_solution_load_json`. `*out` is written only on success; free
 /// it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
 /// errors (`e*`) are not saved, so a loaded sweep has none.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let result: SweepResult = crate::io::load_json("sweep", &path_arg(path, "path")?)?;
+        let result: SweepResult = crate::io::load_document(&path_arg(path, "path")?)?;
         *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::Unknown);
         Ok(())
     })
