@@ -10,7 +10,7 @@
 mod common;
 
 use common::vm_hwm_mb;
-use jprom::cms::{BladeParams, BuiltinBlade, CbOptions};
+use jprom::fe::{BladeParams, BuiltinBlade, CbOptions};
 use std::time::Instant;
 
 fn run_case(refinement: usize, do_cb: bool) {

@@ -1,6 +1,6 @@
 //! JP timing and accuracy table: full-order (FO) vs FR vs NLR sweeps over the band of the first
 //! stuck mode, for H = 1 and H = 3, with a predicted basis (stuck mode as generating shape).
-//! Until the built-in blade (crate::cms) is on main this runs on a 3D spring-mass chain with
+//! Until the built-in blade (crate::fe) is on main this runs on a 3D spring-mass chain with
 //! node-to-ground and node-pair friction contacts (tests/jp_support); `cargo bench --bench jp`.
 
 #[path = "../tests/jp_support/mod.rs"]
@@ -9,7 +9,7 @@ mod jp_support;
 use jp_support::*;
 use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
-use jprom::error_metric::{output_error, predicted_error};
+use jprom::rom::error_metric::{output_error, predicted_error};
 use jprom::hbm::{solve_point, sweep, FullSystem, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;

@@ -12,7 +12,7 @@
 mod jp_support;
 
 use jp_support::slipping_jacobian as jacobian;
-use jprom::cms::{BladeParams, BuiltinBlade};
+use jprom::fe::{BladeParams, BuiltinBlade};
 use jprom::jp::{jp_modes, predict_basis, EigenSolver, ModeOptions, PredictionOptions};
 use jprom::model::{ContactCoordinates, Damping, Model};
 use std::f64::consts::PI;

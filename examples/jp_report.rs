@@ -8,7 +8,7 @@ mod blade_support;
 use blade_support::*;
 use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
-use jprom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
+use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;

@@ -40,8 +40,8 @@ pub enum JpError {
     Eigen { what: String },
 
     /// What a size from outside asks for would need more memory than the budget
-    /// ([`crate::memory::MemoryBudget`]); nothing was allocated.
-    #[error("{what} is too large: it needs about {}, more than the memory budget of {} (raise it with jprom_set_memory_budget or MemoryBudget::set_global if the machine has the memory)", crate::memory::human_bytes(*bytes), crate::memory::human_bytes(*budget as u128))]
+    /// (`crate::memory::MemoryBudget`); nothing was allocated.
+    #[error("{what} is too large: it needs about {}, more than the memory budget of {} (raise it with jprom_set_memory_budget or MemoryBudget::set_global if the machine has the memory)", human_bytes(*bytes), human_bytes(*budget as u128))]
     TooLarge { what: String, bytes: u128, budget: usize },
 
     /// A size from outside exceeds one of jprom's documented caps ([`crate::limits`]).
@@ -84,5 +84,21 @@ pub fn check_finite(what: &str, values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(i) => Err(JpError::invalid(what, format!("entry {i} is not finite ({})", values[i]))),
+    }
+}
+
+/// `1.5 GiB`-style text for a byte count.
+pub fn human_bytes(bytes: u128) -> String {
+    const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut v = bytes as f64;
+    let mut u = 0;
+    while v >= 1024.0 && u + 1 < UNITS.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{bytes} bytes")
+    } else {
+        format!("{v:.1} {} ({bytes} bytes)", UNITS[u])
     }
 }

@@ -81,21 +81,7 @@ pub fn product(factors: &[usize]) -> u128 {
     factors.iter().fold(1u128, |acc, &f| acc.saturating_mul(f as u128))
 }
 
-/// `1.5 GiB`-style text for a byte count.
-pub fn human_bytes(bytes: u128) -> String {
-    const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
-    let mut v = bytes as f64;
-    let mut u = 0;
-    while v >= 1024.0 && u + 1 < UNITS.len() {
-        v /= 1024.0;
-        u += 1;
-    }
-    if u == 0 {
-        format!("{bytes} bytes")
-    } else {
-        format!("{v:.1} {} ({bytes} bytes)", UNITS[u])
-    }
-}
+pub use crate::error::human_bytes;
 
 /// Physical memory in bytes, lowered to the cgroup (v2) limit when there is one.
 fn available_memory() -> Option<u128> {

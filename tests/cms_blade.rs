@@ -1,7 +1,7 @@
 //! The built-in blade: size, contacts, loads, and the stuck first-bending frequency of its
 //! Craig-Bampton model (with contact springs) in the paper's 2.1-2.2 kHz range.
 
-use jprom::cms::{BladeParams, BuiltinBlade};
+use jprom::fe::{BladeParams, BuiltinBlade};
 use jprom::contact::ContactLaw;
 
 #[test]
@@ -34,7 +34,7 @@ fn refinement_scales_contacts_and_keeps_patch_stiffness() {
     let a = BuiltinBlade::build(&base).unwrap();
     let b = BuiltinBlade::build(&fine).unwrap();
     assert_eq!(b.contacts.len(), 2 * 49);
-    let total = |fe: &jprom::cms::BladeFe| match fe.contact_law {
+    let total = |fe: &jprom::fe::BladeFe| match fe.contact_law {
         ContactLaw::Friction3D { kt1, kt2, kn, .. } => {
             let n = fe.contacts.len() as f64 / 2.0;
             [kt1 * n, kt2 * n, kn * n]

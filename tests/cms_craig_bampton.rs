@@ -4,8 +4,8 @@
 
 use faer::prelude::Solve;
 use faer::Mat;
-use jprom::cms::blade::dense_generalized_eigenvalues;
-use jprom::cms::{sparse_to_dense, BladeFe, BladeParams, BuiltinBlade, CbOptions, SparseCholesky};
+use jprom::linalg::eigen::dense_generalized_eigenvalues;
+use jprom::fe::{sparse_to_dense, BladeFe, BladeParams, BuiltinBlade, CbOptions, SparseCholesky};
 use jprom::model::Damping;
 
 fn coarse_blade() -> BladeFe {

@@ -2,8 +2,8 @@
 //! elements too), consistent mass, and a cantilever's first bending frequency against
 //! Euler-Bernoulli.
 
-use jprom::cms::hex8::{self, Material, NODE_SIGNS};
-use jprom::cms::{lowest_modes, sparse_from_triplets, sparse_matvec, SparseCholesky, SparseMat};
+use jprom::fe::hex8::{self, Material, NODE_SIGNS};
+use jprom::fe::{lowest_modes, sparse_from_triplets, sparse_matvec, SparseCholesky, SparseMat};
 
 /// Structured `nx x ny x nz` grid of a box, with optional distortion of interior nodes.
 fn grid(dims: [f64; 3], n: [usize; 3], distort: f64) -> (Vec<[f64; 3]>, Vec<[usize; 8]>) {
@@ -147,7 +147,7 @@ fn cantilever_first_hz(n_len: usize, n_sec: usize) -> f64 {
         map[d] = r;
     }
     let sub = |a: &SparseMat| {
-        let tr: Vec<_> = jprom::cms::sparse_triplets(a)
+        let tr: Vec<_> = jprom::linalg::sparse::sparse_triplets(a)
             .into_iter()
             .filter(|&(i, j, _)| map[i] != usize::MAX && map[j] != usize::MAX)
             .map(|(i, j, v)| (map[i], map[j], v))

@@ -7,7 +7,7 @@ use jprom::condensation::CondensedSystem;
 use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use jprom::ffi::*;
 use jprom::aft::AftPlan;
-use jprom::error_metric::actual_error;
+use jprom::rom::error_metric::actual_error;
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::{ContactCoordinates, Damping, Excitation, HarmonicForce, Model};

@@ -1,7 +1,7 @@
 //! Issue 12 (hardening), the file formats through the Rust API: Matrix Market semantics and
 //! sizes, DoF maps, loaded documents, and writes checked to the end (`/dev/full`).
 
-use jprom::cms::sparse_triplets;
+use jprom::linalg::sparse::sparse_triplets;
 use jprom::error::JpError;
 use jprom::io::dof_map::{DofMap, NodeDofs};
 use jprom::io::matrix_market::{parse_matrix_market, parse_symmetric_matrix_market, write_matrix_market};

@@ -8,7 +8,7 @@ mod jp_support;
 use faer::Mat;
 use jp_support::*;
 use jprom::error::JpError;
-use jprom::error_metric::output_error;
+use jprom::rom::error_metric::output_error;
 use jprom::hbm::{solve_point, sweep, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
 use std::ops::ControlFlow;
 use jprom::jp::JpBasis;

@@ -8,7 +8,7 @@ mod jp_support;
 use jp_support::*;
 use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
 use jprom::condensation::CondensedSystem;
-use jprom::error_metric::full_order_contact_displacement;
+use jprom::rom::error_metric::full_order_contact_displacement;
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, PointSolution};
 use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
 use jprom::model::{ContactCoordinates, Model};

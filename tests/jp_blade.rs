@@ -26,7 +26,7 @@ use blade_support::*;
 use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
-use jprom::error_metric::{actual_error, predicted_error};
+use jprom::rom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;

@@ -1,5 +1,5 @@
 //! JP with node-pair contacts on a realistic model (issue 5, acceptance point 5): two
-//! shroud-coupled copies of the built-in blade ([`jprom::cms::BladePair`]), CB(50) each, 9
+//! shroud-coupled copies of the built-in blade ([`jprom::fe::BladePair`]), CB(50) each, 9
 //! node-pair contacts between blade A's patch 1 and blade B's patch 0 plus 9 + 9 node-to-ground
 //! contacts on the outer patches; both blades forced in anti-phase (engine order N / 2).
 //!
@@ -52,10 +52,10 @@ mod blade_support;
 
 use blade_support::*;
 use jprom::aft::AftPlan;
-use jprom::cms::{BladePair, BladeParams, PairParams, PairSite};
+use jprom::fe::{BladePair, BladeParams, PairParams, PairSite};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
-use jprom::error_metric::{actual_error, predicted_error};
+use jprom::rom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::{ContactCoordinates, Damping, Model};

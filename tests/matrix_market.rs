@@ -1,7 +1,7 @@
 //! Matrix Market: exact round trip (symmetric and general) and specific errors for malformed
 //! files; DoF map JSON round trip and errors.
 
-use jprom::cms::{sparse_triplets, BladeParams, BuiltinBlade};
+use jprom::fe::{sparse_triplets, BladeParams, BuiltinBlade};
 use jprom::io::dof_map::{DofMap, NodeDofs};
 use jprom::io::matrix_market::{format_matrix_market, parse_matrix_market, read_structural_matrices, write_matrix_market};
 use jprom::JpError;

@@ -6,7 +6,7 @@ mod jp_support;
 
 use jp_support::*;
 use jprom::aft::AftPlan;
-use jprom::error_metric::{actual_error, output_error, predicted_error};
+use jprom::rom::error_metric::{actual_error, output_error, predicted_error};
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;

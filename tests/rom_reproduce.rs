@@ -11,7 +11,7 @@ mod jp_support;
 use jp_support::*;
 use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
 use jprom::condensation::CondensedSystem;
-use jprom::error_metric::{actual_error, full_order_contact_displacement, linearised_error, output_error, predicted_error};
+use jprom::rom::error_metric::{actual_error, full_order_contact_displacement, linearised_error, output_error, predicted_error};
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, PointSolution};
 use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
 use jprom::model::{ContactCoordinates, Model};

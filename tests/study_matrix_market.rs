@@ -7,7 +7,7 @@ use jprom::aft::AftPlan;
 use jprom::app::run::{build_model, reconditioned, run_study};
 use jprom::level::stuck_limit_scale;
 use jprom::app::study::Study;
-use jprom::cms::{BladeFe, BladeParams, BuiltinBlade};
+use jprom::fe::{BladeFe, BladeParams, BuiltinBlade};
 use jprom::contact::ContactLaw;
 use jprom::io::dof_map::{DofMap, NodeDofs};
 use jprom::io::matrix_market::write_matrix_market;

@@ -132,7 +132,7 @@ mod slip_onset;
 /// the summary flags it, the CSV carries the end, and `--keep-partial` accepts it.
 #[test]
 fn forced_stall_is_reported_by_the_jprom_program() {
-    let fe = jprom::cms::PlateFe::build(&slip_onset::plate_params()).unwrap();
+    let fe = jprom::fe::PlateFe::build(&slip_onset::plate_params()).unwrap();
     let dir = slip_onset::scratch("cli-stall");
     let path = slip_onset::export_plate(&fe, &dir, (307.7, 345.4), 1);
     let study = std::fs::read_to_string(&path).unwrap();

@@ -2,7 +2,7 @@
 //! memory and the built-in blade model.
 #![allow(dead_code)]
 
-use jprom::cms::{BladeParams, BuiltinBlade};
+use jprom::fe::{BladeParams, BuiltinBlade};
 use jprom::contact::ContactLaw;
 use jprom::model::{Damping, Model};
 use std::time::Instant;

@@ -6,20 +6,20 @@
 use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
 use crate::aft::AftPlan;
-use crate::cms::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
+use crate::fe::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
 use crate::contact::Contact;
 use crate::io::dof_map::DofMap;
 use crate::io::matrix_market::read_symmetric_matrix_market;
 use crate::condensation::CondensedSystem;
 use crate::contact::{ContactLaw, ContactState};
 use crate::error::{JpError, Result};
-use crate::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
+use crate::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use crate::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
 use crate::level::stuck_limit;
 use crate::jp::prediction::PredictionOptions;
 use crate::jp::{predict_basis, JpBasis};
 use crate::model::{ContactCoordinates, Damping, Model};
-use crate::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
+use crate::rom::{adaptive_sweep, reduced_model, AdaptiveOptions, RomKind};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::io::Write;
@@ -133,10 +133,7 @@ fn gamma_study(
     for &g in &gammas {
         let basis = reconditioned(&big, g)?;
         for &(name, kind) in kinds {
-            let rom: Box<dyn ReducedModel> = match kind {
-                RomKind::Fr => Box::new(FrRom::new(coords, &basis)?),
-                RomKind::Nlr => Box::new(NlrRom::new(condensed, &basis)?),
-            };
+            let rom = reduced_model(kind, coords, Some(condensed), &basis)?;
             let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
             if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
                 row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
@@ -548,10 +545,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             };
             let secs = t.elapsed().as_secs_f64();
             let basis = &adaptive.basis;
-            let rom: Box<dyn ReducedModel> = match kind {
-                RomKind::Fr => Box::new(FrRom::new(&coords, basis)?),
-                RomKind::Nlr => Box::new(NlrRom::new(&condensed, basis)?),
-            };
+            let rom = reduced_model(kind, &coords, Some(&condensed), basis)?;
             let res = &adaptive.sweep;
             let errors = &adaptive.predicted_errors;
             write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors))?;

@@ -75,7 +75,7 @@
 //! documented caps ([`crate::limits`]): `hbm.nt` <= 65536, `band.points` <= 100000,
 //! `basis.samples` <= 10000, `model.cb_modes` <= 5000, `model.refinement` <= 15.
 
-use crate::cms::BladeParams;
+use crate::fe::BladeParams;
 use crate::error::{JpError, Result};
 use crate::io::locate::{json_line, key_path, toml_line};
 use crate::limits::{MAX_BAND_POINTS, MAX_BLADE_REFINEMENT, MAX_CB_MODES, MAX_NT, MAX_SAMPLES};

@@ -15,12 +15,13 @@
 //! and `D_0 = K` (real) for the static term. The condensed system is exact for the linear
 //! DoFs: its HBM solution equals the full-order one on `w`.
 
-use crate::contact::ContactLaw;
+use crate::contact::Contacts;
 use crate::error::{JpError, Result};
-use crate::hbm::full::check_omega;
+use crate::hbm::options::check_omega;
 use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use crate::linalg::lu_checked;
 use crate::model::{ContactCoordinates, Model};
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
 /// The condensed full-order system on the contact coordinates.
@@ -31,29 +32,6 @@ pub struct CondensedSystem {
     /// Static condensation, `omega`-independent: `H_0` and `g_0`.
     h0: Mat<f64>,
     g0: Vec<f64>,
-}
-
-/// Factorises a complex matrix and rejects a (numerically) singular one.
-fn lu_checked_c(a: &Mat<c64>, what: &str) -> Result<PartialPivLu<c64>> {
-    let lu = a.partial_piv_lu();
-    let u = lu.U();
-    let n = u.nrows();
-    let mut max_p = 0.0f64;
-    let mut min_p = f64::INFINITY;
-    for i in 0..n {
-        let p = u[(i, i)].norm();
-        if !p.is_finite() {
-            return Err(JpError::singular(format!("{what}: non-finite pivot {i}")));
-        }
-        max_p = max_p.max(p);
-        min_p = min_p.min(p);
-    }
-    if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
-        return Err(JpError::singular(format!(
-            "{what} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}"
-        )));
-    }
-    Ok(lu)
 }
 
 /// Complex `D_h` restricted to rows `r0..r0+nr`, columns `c0..c0+nc` of the z-coordinates.
@@ -86,7 +64,7 @@ impl CondensedSystem {
             (k.clone(), coords.static_force.clone())
         } else {
             let kll = Mat::from_fn(nl, nl, |i, j| k[(nw + i, nw + j)]);
-            let lu = crate::hbm::solve::lu_checked(
+            let lu = lu_checked(
                 &kll,
                 "K_LL (static block of the linear DoFs; is the structure held without its contacts?)",
             )?;
@@ -140,7 +118,7 @@ impl CondensedSystem {
             return Ok((re, im, fc[..nw].to_vec(), fs[..nw].to_vec()));
         }
         let d_ll = block(c, omega, h, nw, nl, nw, nl);
-        let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+        let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
         let mut rhs = block(c, omega, h, nw, nl, 0, nw + 1);
         for i in 0..nl {
             rhs[(i, nw)] = c64::new(fc[nw + i], -fs[nw + i]);
@@ -186,7 +164,7 @@ impl CondensedSystem {
         if h == 0 {
             let k = &c.stiffness;
             let kll = Mat::from_fn(nl, nl, |i, j| k[(nw + i, nw + j)]);
-            let lu = crate::hbm::solve::lu_checked(&kll, "K_LL")?;
+            let lu = lu_checked(&kll, "K_LL")?;
             let rhs = Mat::from_fn(nl, 1, |i, _| {
                 c.static_force[nw + i] - (0..nw).map(|j| k[(nw + i, j)] * zc[j]).sum::<f64>()
             });
@@ -199,7 +177,7 @@ impl CondensedSystem {
         check_omega(omega)?;
         let (fc, fs) = &c.harmonic_force[h - 1];
         let d_ll = block(c, omega, h, nw, nl, nw, nl);
-        let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+        let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
         let d_ln = block(c, omega, h, nw, nl, 0, nw);
         let rhs = Mat::from_fn(nl, 1, |i, _| {
             let mut s = c64::new(fc[nw + i], -fs[nw + i]);
@@ -221,14 +199,8 @@ impl HarmonicSystem for CondensedSystem {
     fn layout(&self) -> &HarmonicLayout {
         &self.layout
     }
-    fn contact_laws(&self) -> &[ContactLaw] {
-        &self.coords.laws
-    }
-    fn contact_offsets(&self) -> &[usize] {
-        &self.coords.offsets
-    }
-    fn n_contact_coords(&self) -> usize {
-        self.coords.n_w
+    fn contacts(&self) -> Contacts<'_> {
+        self.coords.contacts()
     }
     fn contact_map(&self, _h: usize) -> ContactMap<'_> {
         ContactMap::Leading
@@ -373,7 +345,7 @@ impl ProjectedCondensation {
             let (mut gc, mut gs) = self.f_n[h - 1].clone();
             if nl > 0 {
                 let d_ll = Mat::from_fn(nl, nl, |i, j| d(&self.ll, i, j));
-                let lu = lu_checked_c(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+                let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
                 let ln = &self.ln[h - 1];
                 let (fc, fs) = &self.f_l[h - 1];
                 let dlnp = Mat::from_fn(nl, nh, |i, j| d(ln, i, j));

@@ -81,6 +81,15 @@ impl ContactLaw {
     }
 }
 
+/// The contacts of a system as the AFT sees them: their laws in order, the offset of each
+/// contact's coordinates in `w`, and the number of contact coordinates `n_w`.
+#[derive(Clone, Copy, Debug)]
+pub struct Contacts<'a> {
+    pub laws: &'a [ContactLaw],
+    pub offsets: &'a [usize],
+    pub n_w: usize,
+}
+
 /// Where a contact sits: the DoFs of node `a` (and `b` for a pair) and the local frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contact {

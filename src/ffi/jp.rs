@@ -12,11 +12,12 @@ use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;
-use crate::error_metric::{actual_error, predicted_error};
-use crate::hbm::{self, HbmOptions, PointSolution, SweepEnd};
+use crate::rom::error_metric::actual_error;
+use crate::rom;
+use crate::hbm::{HbmOptions, PointSolution, SweepEnd};
 use crate::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
 use crate::model::ContactCoordinates;
-use crate::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, FrRom, NlrRom, ReducedModel, RomKind};
+use crate::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
 use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
@@ -145,9 +146,7 @@ pub unsafe extern "C" fn jprom_rom_sweep(
         let sopts = sweep_options(so)?;
         let rom = build_rom(m, b, rom_kind(kind)?, &hopts)?;
         let mut on_point = progress_adapter(callback, user_data);
-        let result = hbm::sweep(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
-        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
-        let errors = result.points.iter().map(|p| predicted_error(rom.as_ref(), &plan, p.omega, &p.z)).collect::<crate::Result<Vec<_>>>()?;
+        let (result, errors) = rom::sweep_with_predicted_error(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
         cancelled = result.end == SweepEnd::StoppedByCaller;
         *out = jprom_sweep_result::wrap(result, errors, Vec::new(), Origin::Reduced);
         Ok(())
@@ -180,10 +179,9 @@ fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
 }
 
 fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, hopts: &HbmOptions) -> Result<Box<dyn ReducedModel>, FfiError> {
-    Ok(match kind {
-        RomKind::Fr => Box::new(FrRom::new(&ContactCoordinates::new(&m.model, hopts.harmonics)?, b)?),
-        RomKind::Nlr => Box::new(NlrRom::new(&CondensedSystem::new(&m.model, hopts)?, b)?),
-    })
+    let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+    let condensed = if kind == RomKind::Nlr { Some(CondensedSystem::new(&m.model, hopts)?) } else { None };
+    Ok(rom::reduced_model(kind, &coords, condensed.as_ref(), b)?)
 }
 
 /// Settings of the JP basis and of the self-correcting sweep. Fill with

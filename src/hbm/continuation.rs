@@ -42,7 +42,8 @@
 
 use super::newton::{self, NewtonSettings, NonlinearProblem};
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
-use super::solve::{finish_point, newton, plan_for, reference_force, EquilibratedLu, NewtonOutcome};
+use super::solve::{finish_point, newton, plan_for, reference_force, NewtonOutcome};
+use crate::linalg::EquilibratedLu;
 use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};

@@ -4,8 +4,8 @@
 //! (method.md §2).
 
 use super::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
-use crate::contact::ContactLaw;
-use crate::error::{check_finite, JpError, Result};
+use crate::contact::Contacts;
+use crate::error::{JpError, Result};
 use crate::model::{ContactCoordinates, Model};
 use faer::Mat;
 
@@ -27,7 +27,7 @@ impl FullSystem {
         opts.validate()?;
         let coords = ContactCoordinates::new(model, opts.harmonics)?;
         if model.contacts.is_empty() {
-            super::solve::check_nonsingular(&coords.stiffness, "stiffness K of a model without contacts")?;
+            crate::linalg::check_nonsingular(&coords.stiffness, "stiffness K of a model without contacts")?;
         }
         let layout = HarmonicLayout::uniform(opts.harmonics, coords.n_dof);
         Ok(FullSystem { coords, layout })
@@ -48,32 +48,19 @@ pub(crate) fn dynamic_stiffness_parts(c: &ContactCoordinates, omega: f64, h: usi
     (re, im)
 }
 
-pub(crate) fn check_omega(omega: f64) -> Result<()> {
-    check_finite("omega", &[omega])?;
-    if omega <= 0.0 {
-        return Err(JpError::invalid("omega", format!("must be > 0, got {omega}")));
-    }
-    Ok(())
-}
 
 impl HarmonicSystem for FullSystem {
     fn layout(&self) -> &HarmonicLayout {
         &self.layout
     }
-    fn contact_laws(&self) -> &[ContactLaw] {
-        &self.coords.laws
-    }
-    fn contact_offsets(&self) -> &[usize] {
-        &self.coords.offsets
-    }
-    fn n_contact_coords(&self) -> usize {
-        self.coords.n_w
+    fn contacts(&self) -> Contacts<'_> {
+        self.coords.contacts()
     }
     fn contact_map(&self, _h: usize) -> ContactMap<'_> {
         ContactMap::Leading
     }
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
-        check_omega(omega)?;
+        super::options::check_omega(omega)?;
         let c = &self.coords;
         let mut lin = LinearPart {
             d0: c.stiffness.clone(),

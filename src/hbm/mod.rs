@@ -20,6 +20,7 @@ pub mod solution;
 pub mod solve;
 mod newton;
 pub mod continuation;
+pub mod document;
 pub mod full;
 
 pub use continuation::{sweep, sweep_from};
@@ -29,7 +30,7 @@ pub use options::{default_nt, HbmOptions, SweepOptions};
 pub use solution::{PointSolution, SweepEnd, SweepResult, LEFT_BAND_MARGIN};
 pub use solve::solve_point;
 
-use crate::contact::ContactLaw;
+use crate::contact::{ContactLaw, Contacts};
 use crate::error::Result;
 use faer::{Mat, MatRef};
 
@@ -60,12 +61,20 @@ pub struct LinearPart {
 pub trait HarmonicSystem: Sync {
     /// Harmonics and unknowns per harmonic.
     fn layout(&self) -> &HarmonicLayout;
+    /// The contacts: laws, offsets in `w`, `n_w`.
+    fn contacts(&self) -> Contacts<'_>;
     /// Laws of the contacts, in order.
-    fn contact_laws(&self) -> &[ContactLaw];
+    fn contact_laws(&self) -> &[ContactLaw] {
+        self.contacts().laws
+    }
     /// Offset of each contact's coordinates in `w`.
-    fn contact_offsets(&self) -> &[usize];
+    fn contact_offsets(&self) -> &[usize] {
+        self.contacts().offsets
+    }
     /// Number of contact coordinates `n_w`.
-    fn n_contact_coords(&self) -> usize;
+    fn n_contact_coords(&self) -> usize {
+        self.contacts().n_w
+    }
     /// `W_h` for harmonic `h = 0..=H`.
     fn contact_map(&self, h: usize) -> ContactMap<'_>;
     /// `D_h(omega)` and `f_h(omega)` for all harmonics.

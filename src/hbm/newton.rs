@@ -18,7 +18,7 @@ use crate::error::{JpError, Result};
 use crate::linalg::norm2;
 use faer::Mat;
 
-use super::solve::{mat_vec, EquilibratedLu};
+use crate::linalg::{mat_vec, EquilibratedLu};
 
 /// A square system as the solver sees it.
 pub(crate) trait NonlinearProblem {

@@ -205,3 +205,15 @@ fn positive(what: &str, v: f64) -> Result<()> {
         Err(JpError::invalid(what, format!("must be finite and > 0, got {v}")))
     }
 }
+
+/// Checks an angular frequency: finite and `> 0`.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] naming `omega`.
+pub fn check_omega(omega: f64) -> Result<()> {
+    crate::error::check_finite("omega", &[omega])?;
+    if omega <= 0.0 {
+        return Err(JpError::invalid("omega", format!("must be > 0, got {omega}")));
+    }
+    Ok(())
+}

@@ -46,6 +46,30 @@ impl PointSolution {
         }
     }
 
+    /// Harmonic-major contact displacement `w` (`2H + 1` blocks of `n_w`) of a full-order or
+    /// condensed full-order solution, whose unknowns start with the `n_w` contact coordinates
+    /// in every coefficient.
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if `z` does not match the layout or a harmonic has fewer than `n_w`
+    /// unknowns.
+    pub fn contact_displacement(&self, n_w: usize) -> Result<Vec<f64>, JpError> {
+        let layout = &self.layout;
+        if self.z.len() != layout.total() {
+            return Err(JpError::bad_size("solution z", layout.total(), self.z.len()));
+        }
+        if layout.sizes.iter().any(|&s| s < n_w) {
+            return Err(JpError::bad_size("solution unknowns per harmonic", n_w, *layout.sizes.iter().min().unwrap_or(&0)));
+        }
+        let nc = 2 * layout.harmonics + 1;
+        let mut w = Vec::with_capacity(n_w * nc);
+        for k in 0..nc {
+            let (o, _) = layout.coeff_range(k);
+            w.extend_from_slice(&self.z[o..o + n_w]);
+        }
+        Ok(w)
+    }
+
     /// Total energy dissipated by friction per cycle, over all contacts.
     pub fn dissipated_energy(&self) -> f64 {
         self.contact_cycles.iter().map(|c| c.dissipated_energy).sum()

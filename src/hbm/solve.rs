@@ -9,82 +9,7 @@ use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
 use crate::linalg::norm2;
-use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::Mat;
-
-/// Factorises `a` by LU with partial pivoting and rejects (numerically) singular matrices:
-/// any pivot below `100 n eps` times the largest, or a non-finite pivot.
-///
-/// # Errors
-/// [`JpError::SingularMatrix`] naming `what`.
-pub(crate) fn lu_checked(a: &Mat<f64>, what: &str) -> Result<PartialPivLu<f64>> {
-    let lu = a.partial_piv_lu();
-    let u = lu.U();
-    let n = u.nrows();
-    let mut max_p = 0.0f64;
-    let mut min_p = f64::INFINITY;
-    for i in 0..n {
-        let p = u[(i, i)].abs();
-        if !p.is_finite() {
-            return Err(JpError::singular(format!("{what}: non-finite pivot {i}")));
-        }
-        max_p = max_p.max(p);
-        min_p = min_p.min(p);
-    }
-    if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
-        return Err(JpError::singular(format!(
-            "{what} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}"
-        )));
-    }
-    Ok(lu)
-}
-
-/// LU of a row- and column-equilibrated copy of `a` (`B = R A C` with `C` scaling every column
-/// to unit norm, then `R` every row), so that the singularity test of [`lu_checked`] judges
-/// the matrix and not its units: a bordered continuation system mixes displacement columns,
-/// a frequency column and an arclength row of very different sizes.
-pub(crate) struct EquilibratedLu {
-    lu: PartialPivLu<f64>,
-    row: Vec<f64>,
-    col: Vec<f64>,
-}
-
-impl EquilibratedLu {
-    /// Factorises `a`.
-    ///
-    /// # Errors
-    /// As [`lu_checked`], on the equilibrated matrix.
-    pub(crate) fn new(a: &Mat<f64>, what: &str) -> Result<Self> {
-        let norm_or_one = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
-        let col: Vec<f64> = (0..a.ncols()).map(|j| 1.0 / norm_or_one(a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt())).collect();
-        let mut b = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * col[j]);
-        let row: Vec<f64> = (0..b.nrows()).map(|i| 1.0 / norm_or_one((0..b.ncols()).map(|j| b[(i, j)] * b[(i, j)]).sum::<f64>().sqrt())).collect();
-        for j in 0..b.ncols() {
-            for (i, v) in b.col_mut(j).iter_mut().enumerate() {
-                *v *= row[i];
-            }
-        }
-        Ok(EquilibratedLu { lu: lu_checked(&b, what)?, row, col })
-    }
-
-    /// Solves `a x = rhs`.
-    pub(crate) fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        let b: Vec<f64> = rhs.iter().zip(&self.row).map(|(v, r)| v * r).collect();
-        lu_solve(&self.lu, &b).iter().zip(&self.col).map(|(y, c)| y * c).collect()
-    }
-}
-
-/// Checks that a square matrix is numerically nonsingular (see [`lu_checked`]).
-pub(crate) fn check_nonsingular(a: &Mat<f64>, what: &str) -> Result<()> {
-    lu_checked(a, what).map(|_| ())
-}
-
-/// Solves `lu x = b`.
-pub(crate) fn lu_solve(lu: &PartialPivLu<f64>, b: &[f64]) -> Vec<f64> {
-    let rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
-    let x = lu.solve(&rhs);
-    (0..b.len()).map(|i| x[(i, 0)]).collect()
-}
 
 /// Norm of the external force `f` of a linear part (all harmonics).
 pub(crate) fn force_norm(lin: &LinearPart) -> f64 {
@@ -106,20 +31,6 @@ pub(crate) fn reference_force(lin: &LinearPart, contact_force_norm: f64, r0: f64
     } else {
         1.0
     }
-}
-
-/// `a v`.
-pub(crate) fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; a.nrows()];
-    for j in 0..a.ncols() {
-        let vj = v[j];
-        if vj != 0.0 {
-            for (o, x) in out.iter_mut().zip(a.col(j).iter()) {
-                *o += x * vj;
-            }
-        }
-    }
-    out
 }
 
 /// The AFT plan a system needs (`None` without contacts).
@@ -236,7 +147,7 @@ pub fn solve_point(
             format!("system has H = {}, options say {}", system.layout().harmonics, opts.harmonics),
         ));
     }
-    super::full::check_omega(omega)?;
+    super::options::check_omega(omega)?;
     let n = system.layout().total();
     let z0 = match z_guess {
         Some(g) => {

@@ -17,9 +17,9 @@
 //! Every malformed file gives [`JpError::Parse`] with the 1-based line number and the reason;
 //! nothing panics on bad input.
 
-use crate::cms::{sparse_from_triplets, sparse_triplets, SparseMat};
+use crate::linalg::sparse::{sparse_from_triplets, sparse_triplets, SparseMat};
 use crate::error::{JpError, Result};
-use crate::model::SYMMETRY_TOLERANCE;
+use crate::linalg::SYMMETRY_TOLERANCE;
 use std::path::Path;
 
 fn perr(path: &str, line: usize, reason: impl Into<String>) -> JpError {
@@ -277,7 +277,7 @@ pub fn format_matrix_market(a: &SparseMat, symmetric: bool) -> Result<String> {
         if a.nrows() != a.ncols() {
             return Err(JpError::invalid("matrix", "symmetric Matrix Market output needs a square matrix"));
         }
-        let t = crate::cms::sparse_from_triplets(a.ncols(), a.nrows(), tr.iter().map(|&(i, j, v)| (j, i, v)).collect())?;
+        let t = crate::linalg::sparse::sparse_from_triplets(a.ncols(), a.nrows(), tr.iter().map(|&(i, j, v)| (j, i, v)).collect())?;
         let tt = sparse_triplets(&t);
         if tt.len() != tr.len() || tt.iter().zip(&tr).any(|(x, y)| x != y) {
             return Err(JpError::invalid("matrix", "not exactly symmetric; write it as general"));

@@ -6,7 +6,8 @@ use super::modes::{jp_modes, JpModes, ModeOptions};
 use super::ContactJacobian;
 use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
 use crate::error::{JpError, Result};
-use crate::error_metric::full_order_contact_displacement;
+use crate::io::documents::{bad, finite, Check, Document};
+use crate::limits::MAX_HARMONICS;
 use crate::hbm::PointSolution;
 use crate::linalg::serde_mat_vec;
 use crate::model::ContactCoordinates;
@@ -107,7 +108,7 @@ impl JpBasis {
         if (n0 != coords.n_dof && n0 != coords.n_w) || fo.layout.sizes.iter().any(|&s| s != n0) {
             return Err(JpError::bad_size("full-order solution unknowns per harmonic (n or n_w for every h)", coords.n_dof, n0));
         }
-        let w = full_order_contact_displacement(fo, coords.n_w)?;
+        let w = fo.contact_displacement(coords.n_w)?;
         let mut forces = ContactForces::default();
         evaluate_contacts(plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
         let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, hh, &forces, &w)?;
@@ -249,4 +250,51 @@ pub(crate) fn orthonormal_extension(p: &Mat<f64>, e: &Mat<f64>, tol: f64) -> Res
     out.as_mut().submatrix_mut(0, 0, n, p.ncols()).copy_from(p);
     out.as_mut().submatrix_mut(0, p.ncols(), n, keep).copy_from(svd.U().subcols(0, keep));
     Ok(out)
+}
+
+impl Document for JpBasis {
+    const KIND: &'static str = "basis";
+    fn check(&self) -> Result<Check> {
+        Ok(check_basis(self))
+    }
+}
+
+fn check_basis(b: &JpBasis) -> Check {
+    if b.phi.len() < 2 || b.phi.len() > MAX_HARMONICS + 1 {
+        return bad("phi", format!("has {} harmonics' matrices, 2..={} (h = 0..=H) expected", b.phi.len(), MAX_HARMONICS + 1));
+    }
+    if b.sizes.len() != b.phi.len() {
+        return bad("sizes", format!("has {} entries, phi has {} matrices (h = 0..=H)", b.sizes.len(), b.phi.len()));
+    }
+    if b.singular_values.len() != b.phi.len() {
+        return bad("singular_values", format!("has {} lists, phi has {} matrices", b.singular_values.len(), b.phi.len()));
+    }
+    if b.n_w > b.n_dof {
+        return bad("n_w", format!("{} contact coordinates in a model of n_dof = {}", b.n_w, b.n_dof));
+    }
+    for (h, p) in b.phi.iter().enumerate() {
+        if p.nrows() != b.n_dof {
+            return bad(format!("phi[{h}].nrows"), format!("harmonic {h} has {} rows, n_dof is {}", p.nrows(), b.n_dof));
+        }
+        if p.ncols() != b.sizes[h] {
+            return bad(format!("phi[{h}].ncols"), format!("harmonic {h} has {} columns, sizes[{h}] is {}", p.ncols(), b.sizes[h]));
+        }
+        for j in 0..p.ncols() {
+            for i in 0..p.nrows() {
+                if !p[(i, j)].is_finite() {
+                    return bad(format!("phi[{h}].data"), format!("entry ({i}, {j}) is not finite"));
+                }
+            }
+        }
+        finite(&format!("singular_values[{h}]"), &b.singular_values[h])?;
+    }
+    if !(b.gamma.is_finite() && b.gamma >= 1.0) {
+        return bad("gamma", format!("must be finite and >= 1, got {}", b.gamma));
+    }
+    if let Some((lo, hi)) = b.band {
+        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > 0.0) {
+            return bad("band", format!("must be two finite positive frequencies, got ({lo}, {hi})"));
+        }
+    }
+    Ok(())
 }

@@ -9,7 +9,9 @@
 //! and the condensed stiffness (30) cheap corrections of `K`.
 
 pub mod basis;
+pub mod condensed;
 pub mod conditioning;
+pub mod mode_selection;
 pub mod modes;
 pub mod prediction;
 pub mod shift_invert;
@@ -23,7 +25,6 @@ pub use prediction::{predict_basis, stuck_mode, GeneratingShape, PredictionOptio
 use crate::aft::ContactForces;
 use crate::contact::ContactLaw;
 use crate::error::{JpError, Result};
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 /// The boundary conditions of JP (§6): the contact stiffness `K̂ = dF/dw` of all contacts at one
@@ -206,22 +207,7 @@ fn check_offsets(laws: &[ContactLaw], offsets: &[usize], n_w: usize) -> Result<(
     Ok(())
 }
 
-/// Dense LU solve `A X = B` with a check that the factorisation is usable: the relative residual
-/// must be small, otherwise `A` is reported singular.
-pub(crate) fn lu_solve(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>> {
-    let lu = a.partial_piv_lu();
-    let x = lu.solve(b);
-    let finite = (0..x.ncols()).all(|j| (0..x.nrows()).all(|i| x[(i, j)].is_finite()));
-    if !finite {
-        return Err(JpError::singular(what));
-    }
-    let r = a * &x - b;
-    let scale = a.norm_l2() * x.norm_l2() + b.norm_l2();
-    if r.norm_l2() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
-        return Err(JpError::singular(what));
-    }
-    Ok(x)
-}
+pub(crate) use crate::linalg::solve_checked as lu_solve;
 
 /// Euclidean norm of column `j`.
 pub(crate) fn col_norm(m: &Mat<f64>, j: usize) -> f64 {

@@ -23,75 +23,16 @@
 //! factorisation of `K - σ h^2 M` per harmonic and a correction on the contact coordinates,
 //! and never forms the dense `K_JC` unless the static correction asks for it.
 
+use super::condensed::condensed_stiffness;
+pub use super::mode_selection::{EigenSolver, ModeOptions, AUTO_DENSE_MAX};
 use super::{col_norm, lu_solve, stack_columns, ContactJacobian};
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
 use faer::{Mat, Side};
-use serde::{Deserialize, Serialize};
 
 /// Parts of eigenvectors shorter than this (eigenvectors have unit length) are treated as
 /// round-off and dropped, e.g. the harmonic-2 part of a fully stuck harmonic-1 mode.
 pub const PART_FLOOR: f64 = 1e-9;
-
-/// Which eigenpairs of (31) become JP modes.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ModeOptions {
-    /// Analysis band `[omega_lo, omega_hi]`, angular frequency (rad/s).
-    pub band: (f64, f64),
-    /// Number of further eigenpairs, nearest to the band (in `sqrt(Re λ)`), kept as well.
-    /// Eigenvalues are counted one by one (a stuck pair counts 2).
-    pub extra_outside: usize,
-    /// Add the static-correction vectors of the condensed problem (a jprom extension of (33),
-    /// the mode-acceleration idea of CMS): `K_JC^-1 F_h` for the harmonic forcing `F_h` of each
-    /// loaded harmonic and `K_JC^-1 K̂_J0 A_0^-1 (f_E^0 + g)` for the static load's coupling into
-    /// the harmonics. They carry the quasi-static response of every mode the band leaves out,
-    /// which is what limits the accuracy of an in-band basis away from the resonance peak and
-    /// in the static term. Default `true`.
-    #[serde(default = "default_static_correction")]
-    pub static_correction: bool,
-    /// Eigen solver of (31) (default [`EigenSolver::Auto`]).
-    #[serde(default)]
-    pub solver: EigenSolver,
-}
-
-/// How the eigenproblem (31) is solved.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum EigenSolver {
-    /// Dense non-symmetric eigen solve of the whole condensed problem, `O((2 H n)^3)`.
-    Dense,
-    /// A few eigenpairs around the band by shift-invert Arnoldi over a factorisation of
-    /// `K_JC - σ M_JC` ([`super::shift_invert`]).
-    ShiftInvert,
-    /// [`EigenSolver::Dense`] up to [`AUTO_DENSE_MAX`] = `2 H n`, else
-    /// [`EigenSolver::ShiftInvert`].
-    #[default]
-    Auto,
-}
-
-/// Largest condensed size `2 H n` that [`EigenSolver::Auto`] solves densely.
-pub const AUTO_DENSE_MAX: usize = 600;
-
-impl EigenSolver {
-    /// The solver used for a condensed problem of size `dim = 2 H n`.
-    pub fn resolve(self, dim: usize) -> EigenSolver {
-        match self {
-            EigenSolver::Auto if dim <= AUTO_DENSE_MAX => EigenSolver::Dense,
-            EigenSolver::Auto => EigenSolver::ShiftInvert,
-            s => s,
-        }
-    }
-}
-
-fn default_static_correction() -> bool {
-    true
-}
-
-impl ModeOptions {
-    /// The in-band eigenpairs of `band` with the static correction, nothing outside.
-    pub fn in_band(band: (f64, f64)) -> Self {
-        ModeOptions { band, extra_outside: 0, static_correction: true, solver: EigenSolver::Auto }
-    }
-}
 
 /// The JP modes of one set of boundary conditions, before conditioning.
 #[derive(Clone, Debug)]
@@ -340,54 +281,4 @@ fn dense_eigenpairs(coords: &ContactCoordinates, mut kjc: Mat<f64>, hh: usize, o
 
     let eigenvalues = keep.iter().map(|&k| (s[k].re, s[k].im)).collect();
     Ok((eigenvalues, v_re, v_im))
-}
-
-/// The condensed stiffness `K_JC` (30) on the coefficients `1..=2H` (block `c - 1` of size `n`):
-/// `δ_ij K + K̂_ij - K̂_i0 A_0^-1|_ww K̂_0j`, dense; the contact-coordinate part is
-/// [`contact_condensation`].
-fn condensed_stiffness(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>) -> Mat<f64> {
-    let (n, nw) = (coords.n_dof, coords.n_w);
-    let nj = 2 * k_hat.harmonics;
-    let mut kjc = Mat::<f64>::zeros(nj * n, nj * n);
-    for c in 0..nj {
-        kjc.as_mut().submatrix_mut(c * n, c * n, n, n).copy_from(&coords.stiffness);
-    }
-    let s = contact_condensation(coords, k_hat, g_ww);
-    for ci in 0..nj {
-        for cj in 0..nj {
-            for j in 0..nw {
-                for i in 0..nw {
-                    kjc[(ci * n + i, cj * n + j)] += s[(ci * nw + i, cj * nw + j)];
-                }
-            }
-        }
-    }
-    kjc
-}
-
-/// `S_ij = K̂_ij - K̂_i0 g_ww K̂_0j` on the contact coordinates of the coefficients `1..=2H`
-/// (block `c - 1` of size `n_w`), `g_ww = A_0^-1|_ww` the contact block of the static
-/// condensation (28): the part of `K_JC` (30) that the contacts add, shared by the dense and the
-/// shift-invert paths. When `K̂` is block-diagonal by contact (checked) the products cost
-/// `O(n_w^2)`, not `O(n_w^3)`.
-pub(crate) fn contact_condensation(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>) -> Mat<f64> {
-    let nw = coords.n_w;
-    let nj = 2 * k_hat.harmonics;
-    let (laws, offsets) = (&coords.laws, &coords.offsets);
-    let per_contact = k_hat.is_per_contact(laws, offsets);
-    let mut s = Mat::<f64>::zeros(nj * nw, nj * nw);
-    for ci in 1..=nj {
-        // K̂_i0 A0^-1|_ww
-        let left = if per_contact { k_hat.block_times(ci, 0, g_ww.as_ref(), laws, offsets) } else { k_hat.block(ci, 0) * g_ww };
-        for cj in 1..=nj {
-            let corr = if per_contact { k_hat.times_block(left.as_ref(), 0, cj, laws, offsets) } else { &left * k_hat.block(0, cj) };
-            let kij = k_hat.block(ci, cj);
-            for j in 0..nw {
-                for i in 0..nw {
-                    s[((ci - 1) * nw + i, (cj - 1) * nw + j)] = kij[(i, j)] - corr[(i, j)];
-                }
-            }
-        }
-    }
-    s
 }

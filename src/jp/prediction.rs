@@ -134,7 +134,7 @@ pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64,
     let k = stuck_stiffness(coords);
     let centre = 0.5 * (band.0 + band.1);
     // Shift-invert at the band centre: one LU of the model size, no full eigen solve.
-    let (lambda, mut phi) = crate::linalg::generalized_eigenpair_nearest(&k, &coords.mass, centre * centre, "stuck modes")?;
+    let (lambda, mut phi) = crate::linalg::eigen::generalized_eigenpair_nearest(&k, &coords.mass, centre * centre, "stuck modes")?;
     // Unit length, and a sign that does not depend on the solver: largest entry positive.
     let big = phi.iter().copied().fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
     let nrm = norm2(&phi).copysign(big);

@@ -36,7 +36,7 @@
 //! found) is added, as are missing complex conjugates, so the kept eigenvalues match the dense
 //! solve's (which counts a stuck pair as 2).
 
-use super::modes::ModeOptions;
+use super::mode_selection::ModeOptions;
 use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
@@ -100,7 +100,7 @@ impl<'a> CondensedProblem<'a> {
         if g_ww.nrows() != nw || g_ww.ncols() != nw {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
-        let s = super::modes::contact_condensation(coords, k_hat, g_ww);
+        let s = super::condensed::contact_condensation(coords, k_hat, g_ww);
         Ok(CondensedProblem { coords, harmonics: hh, s })
     }
 
@@ -606,7 +606,7 @@ pub fn shift_invert_eigenpairs_with(
     // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
     // tolerance is relative.
     let op0 = Operator { solve: &solve, scale: 1.0 };
-    let est = crate::linalg::operator_norm_estimate(dim, 20, |w, v| op0.apply_to(w, v));
+    let est = crate::linalg::eigen::operator_norm_estimate(dim, 20, |w, v| op0.apply_to(w, v));
     if !(est.is_finite() && est > 0.0) {
         return Err(JpError::Eigen { what: format!("shift-invert operator of (31): norm estimate {est}") });
     }

@@ -139,6 +139,11 @@ impl ContactCoordinates {
         })
     }
 
+    /// The contacts as the AFT sees them.
+    pub fn contacts(&self) -> crate::contact::Contacts<'_> {
+        crate::contact::Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w }
+    }
+
     /// Physical displacement `x = T z` of one harmonic component.
     pub fn to_physical(&self, z: &[f64]) -> Vec<f64> {
         self.rows.iter().map(|row| row.iter().map(|&(j, t)| t * z[j]).sum()).collect()

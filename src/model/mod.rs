@@ -4,6 +4,7 @@
 pub mod contact_coordinates;
 
 use crate::contact::Contact;
+use crate::io::documents::Document;
 use crate::error::{check_finite, JpError, Result};
 use crate::linalg::{check_symmetric, norm2, serde_mat};
 use faer::Mat;
@@ -122,8 +123,7 @@ pub struct Model {
     pub output_dofs: Vec<usize>,
 }
 
-/// Relative tolerance of the symmetry check on `M` and `K`.
-pub const SYMMETRY_TOLERANCE: f64 = 1e-9;
+pub use crate::linalg::SYMMETRY_TOLERANCE;
 
 impl Model {
     /// Builds and validates a model. See [`Model::validate`] for the checks.
@@ -249,3 +249,12 @@ impl Model {
         crate::io::load_document(path)
     }
 }
+
+impl Document for Model {
+    const KIND: &'static str = "model";
+    fn check(&self) -> Result<crate::io::documents::Check> {
+        self.validate()?;
+        Ok(Ok(()))
+    }
+}
+

@@ -10,10 +10,10 @@
 //! the result is the best basis found.
 //!
 //! **How a pass is judged.** `e*` is evaluated at every point; it flags, the **linearised
-//! error** ([`crate::error_metric::linearised_error`], one full-order Newton step from the
+//! error** ([`crate::rom::error_metric::linearised_error`], one full-order Newton step from the
 //! reduced solution, equal to the actual error to first order) decides: it is evaluated at the
 //! reduced resonance and at the [`CHECKED_POINTS`] points of largest `e*`, and the pass is judged
-//! by its largest value there. `e*` misjudges both ways (see [`crate::error_metric`]): it can
+//! by its largest value there. `e*` misjudges both ways (see [`crate::rom::error_metric`]): it can
 //! fall below the actual error near a resonance, and it overstates it by the ratio of the
 //! structure's dynamic stiffness to the contact stiffness where contacts stick off resonance
 //! (measured on the twisted plate: `e*_1 = 0.67` for an actual `e_1 = 8.5e-4`, which would
@@ -24,25 +24,17 @@
 //! `max_corrections`, or when no correction is left to try (a dropped correction at the
 //! largest `gamma` would only be repeated); [`AdaptiveSweep::end`] says which.
 
-use super::{FrRom, NlrRom, ReducedModel};
+use super::{ReducedModel, RomKind};
 use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
-use crate::error_metric::{linearised_error, predicted_error, POOR_BASIS_THRESHOLD};
-use crate::hbm::{sweep, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use crate::rom::error_metric::{linearised_error, POOR_BASIS_THRESHOLD};
+use crate::hbm::{HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use crate::jp::{predict_basis, GeneratingShape, JpBasis, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
 
-/// Which reduced model the sweep uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum RomKind {
-    /// Full-DoF reduction (cheaper per iteration).
-    Fr,
-    /// Nonlinear-DoF reduction on the condensed system (more accurate at equal size).
-    Nlr,
-}
 
 /// Settings of [`adaptive_sweep`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -146,13 +138,6 @@ pub struct AdaptiveSweep {
     pub end: CorrectionEnd,
 }
 
-fn build_rom(kind: RomKind, coords: &ContactCoordinates, condensed: Option<&CondensedSystem>, basis: &JpBasis) -> Result<Box<dyn ReducedModel>> {
-    Ok(match kind {
-        RomKind::Fr => Box::new(FrRom::new(coords, basis)?),
-        RomKind::Nlr => Box::new(NlrRom::new(condensed.expect("condensed system built for NLR"), basis)?),
-    })
-}
-
 struct Pass {
     sweep: SweepResult,
     errors: Vec<Vec<f64>>,
@@ -173,21 +158,18 @@ fn run_pass(
     pass: usize,
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<Pass> {
-    let sw = sweep(rom, sopts, hopts, &mut |p: &PointSolution| on_point(pass, p))?;
+    let (sw, errors) = super::sweep_with_predicted_error(rom, sopts, hopts, &mut |p: &PointSolution| on_point(pass, p))?;
     if sw.points.is_empty() {
         return Err(JpError::NoConvergence { what: "reduced sweep (no point)".into(), iterations: 0, residual: f64::NAN });
     }
-    let mut errors = Vec::with_capacity(sw.points.len());
     let mut worst = -1.0f64;
     let mut worst_at = 0;
-    for (i, p) in sw.points.iter().enumerate() {
-        let e = predicted_error(rom, plan, p.omega, &p.z)?;
+    for (i, e) in errors.iter().enumerate() {
         // A NaN e* counts as worst.
         if !(e[1] <= worst) {
             worst = if e[1].is_nan() { f64::INFINITY } else { e[1] };
             worst_at = i;
         }
-        errors.push(e);
     }
     let mut checks = Vec::new();
     if let Some(condensed) = condensed {
@@ -262,7 +244,7 @@ pub fn adaptive_sweep_with_progress(
     let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
     let mut popts = pred.clone();
     let (mut basis, mut prediction) = predict_basis(&coords, &popts)?;
-    let mut rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &basis)?;
+    let mut rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
     let mut corrections = Vec::new();
     // A basis too poor to converge at the first frequency has no reduced solution to
     // regenerate from: enlarge gamma (uniting as below) while corrections remain.
@@ -277,7 +259,7 @@ pub fn adaptive_sweep_with_progress(
                 let (fresh, r) = predict_basis(&coords, &popts)?;
                 basis = basis.union(&fresh, popts.gamma)?;
                 prediction = r;
-                rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &basis)?;
+                rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
                 corrections.push(Correction {
                     kind: CorrectionKind::GammaIncreased { gamma: popts.gamma },
                     worst_error_before: f64::INFINITY,
@@ -323,7 +305,7 @@ pub fn adaptive_sweep_with_progress(
         };
         let (fresh, r) = predict_basis(&coords, &popts)?;
         let b = basis.union(&fresh, popts.gamma)?;
-        let new_rom = build_rom(aopts.kind, &coords, condensed.as_ref(), &b)?;
+        let new_rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &b)?;
         let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, &plan, corrections.len() + 1, on_point)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
         // Regenerate again only if it helped; otherwise grow gamma next.

@@ -12,7 +12,7 @@
 //! accurate as NLR on the same basis; see that function for why.
 
 use super::ReducedModel;
-use crate::contact::ContactLaw;
+use crate::contact::{ContactLaw, Contacts};
 use crate::error::{check_finite, JpError, Result};
 use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::jp::JpBasis;
@@ -152,7 +152,7 @@ impl FrRom {
     /// in exact equilibrium (§5 condensation), i.e. the full-order residual at the reduced
     /// contact motion. This is (40) with FR's linear-DoF equilibrium error expressed as the
     /// contact force it stands for (the bare linear rows are in other units for a
-    /// Craig-Bampton model; see [`crate::error_metric`]). One dense factorisation of `D_h,yy`
+    /// Craig-Bampton model; see [`crate::rom::error_metric`]). One dense factorisation of `D_h,yy`
     /// per harmonic: a post-processing cost, never paid inside the reduced iterations.
     fn transfer_linear_residual(&self, omega: f64, out: &mut [Vec<f64>]) -> Result<()> {
         let (n, nw) = (self.n_dof, self.n_w);
@@ -235,14 +235,8 @@ impl HarmonicSystem for FrRom {
     fn layout(&self) -> &HarmonicLayout {
         &self.layout
     }
-    fn contact_laws(&self) -> &[ContactLaw] {
-        &self.laws
-    }
-    fn contact_offsets(&self) -> &[usize] {
-        &self.offsets
-    }
-    fn n_contact_coords(&self) -> usize {
-        self.n_w
+    fn contacts(&self) -> Contacts<'_> {
+        Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w }
     }
     fn contact_map(&self, h: usize) -> ContactMap<'_> {
         ContactMap::Dense(self.parts[h].w.as_ref())

@@ -8,7 +8,7 @@
 
 use super::ReducedModel;
 use crate::condensation::{CondensedSystem, ProjectedCondensation};
-use crate::contact::ContactLaw;
+use crate::contact::Contacts;
 use crate::error::{check_finite, JpError, Result};
 use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::jp::JpBasis;
@@ -112,14 +112,8 @@ impl HarmonicSystem for NlrRom {
     fn layout(&self) -> &HarmonicLayout {
         &self.layout
     }
-    fn contact_laws(&self) -> &[ContactLaw] {
-        self.condensed.contact_laws()
-    }
-    fn contact_offsets(&self) -> &[usize] {
-        self.condensed.contact_offsets()
-    }
-    fn n_contact_coords(&self) -> usize {
-        self.condensed.n_contact_coords()
+    fn contacts(&self) -> Contacts<'_> {
+        self.condensed.contacts()
     }
     fn contact_map(&self, h: usize) -> ContactMap<'_> {
         ContactMap::Dense(self.phi_n[h].as_ref())

@@ -5,10 +5,10 @@
 #![allow(dead_code)]
 
 use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
-use jprom::cms::{BladeParams, BuiltinBlade};
+use jprom::fe::{BladeParams, BuiltinBlade};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactLaw;
-use jprom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
+use jprom::rom::error_metric::{actual_error, full_order_contact_displacement, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, sweep, HbmOptions, PointSolution, SweepOptions};
 use jprom::jp::{BasisOptions, ContactJacobian, JpBasis, ModeOptions};
 use jprom::rom::{FrRom, NlrRom, ReducedModel};

@@ -2,7 +2,7 @@
 //! setup, with contacts closed by their preload alone, and the check that FO, FR and NLR sweeps
 //! cross a band from stick to gross slip.
 //!
-//! - The twisted plate ([`jprom::cms::PlateFe`]): a solid hex mesh clamped at the root, 16 tip
+//! - The twisted plate ([`jprom::fe::PlateFe`]): a solid hex mesh clamped at the root, 16 tip
 //!   nodes against a casing with radial normals, closed by `n0`, forced at the leading edge,
 //!   exported as Matrix Market `M`, `K` with a DoF map and read back through a study file.
 //! - The built-in blade with its pre-twist load replaced by the preload `n0` it produced.
@@ -12,10 +12,10 @@
 use jprom::aft::AftPlan;
 use jprom::app::run::build_model;
 use jprom::app::study::Study;
-use jprom::cms::{BladeParams, BuiltinBlade, PlateFe, PlateParams};
+use jprom::fe::{BladeParams, BuiltinBlade, PlateFe, PlateParams};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactLaw;
-use jprom::error_metric::{actual_error, linearised_error};
+use jprom::rom::error_metric::{actual_error, linearised_error};
 use jprom::hbm::{solve_point, sweep, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use jprom::io::dof_map::{DofMap, NodeDofs};
 use jprom::io::matrix_market::write_matrix_market;
@@ -77,7 +77,7 @@ pub fn plate_model(harmonics: usize, tag: &str) -> (Model, (f64, f64)) {
     let model = build_model(&Study::from_file(&path).unwrap()).unwrap();
     let coords = ContactCoordinates::new(&model, harmonics).unwrap();
     let (w_stuck, _) = stuck_mode(&coords, (TWO_PI * 250.0, TWO_PI * 350.0)).unwrap();
-    let free = jprom::cms::blade::dense_generalized_eigenvalues(&model.stiffness, &model.mass).unwrap()[0].sqrt();
+    let free = jprom::linalg::eigen::dense_generalized_eigenvalues(&model.stiffness, &model.mass).unwrap()[0].sqrt();
     let band = (0.96 * free, 1.04 * w_stuck);
     let path = export_plate(&fe, &scratch(tag), (band.0 / TWO_PI, band.1 / TWO_PI), harmonics);
     (build_model(&Study::from_file(&path).unwrap()).unwrap(), band)

@@ -29,9 +29,10 @@
 //! DoFs: node `i` (root nodes excluded) owns DoFs `3 i + {0, 1, 2}` (`x, y, z`).
 
 use super::craig_bampton::{CbOptions, CraigBampton};
-use super::eigen::{lowest_modes, SparseCholesky};
+use crate::linalg::eigen::dense_generalized_eigenvalues;
+use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
 use super::hex8::{self, Material};
-use super::{sparse_from_triplets, sparse_triplets, SparseMat};
+use crate::linalg::sparse::{sparse_from_triplets, sparse_triplets, SparseMat};
 use crate::contact::{Contact, ContactLaw};
 use crate::error::{JpError, Result};
 use crate::model::{Damping, Excitation, HarmonicForce, Model};
@@ -601,27 +602,4 @@ impl CbModel {
             self.output_dofs.clone(),
         )
     }
-}
-
-/// Eigenvalues (ascending) of the dense symmetric-definite problem `K x = lambda M x`, by
-/// `M = L L^T` and the symmetric `L^-1 K L^-T`.
-///
-/// # Errors
-/// [`JpError::SingularMatrix`] if `M` is not positive definite, [`JpError::Eigen`] otherwise.
-pub fn dense_generalized_eigenvalues(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result<Vec<f64>> {
-    let n = k.nrows();
-    let llt = m.llt(faer::Side::Lower).map_err(|_| JpError::singular("mass (dense Cholesky)"))?;
-    let l = llt.L();
-    let mut a = k.clone();
-    // a = L^-1 K L^-T
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::rayon(0));
-    let mut at = a.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, at.as_mut(), faer::Par::rayon(0));
-    let a = faer::Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
-    let s = a
-        .self_adjoint_eigenvalues(faer::Side::Lower)
-        .map_err(|e| JpError::Eigen { what: format!("dense symmetric eigenvalues: {e:?}") })?;
-    let mut s: Vec<f64> = s.into_iter().collect();
-    s.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    Ok(s)
 }

@@ -13,7 +13,7 @@
 //! finds them; an eigenvector `y` of `A` maps back to `x = P^T L^-T y / sqrt(mu)`, which is
 //! mass-normalised (`x^T M x = 1`, `x^T K x = lambda`).
 
-use super::SparseMat;
+use super::sparse::SparseMat;
 use crate::error::{JpError, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::matrix_free::LinOp;
@@ -150,7 +150,7 @@ impl ShiftInvert<'_> {
         let mut x = rhs.to_owned();
         self.chol.lt_solve_unpermuted(x.as_mut());
         let mut out = out;
-        super::spmm(out.as_mut(), faer::Accum::Replace, self.mass, x.as_ref(), self.scale);
+        super::sparse::spmm(out.as_mut(), faer::Accum::Replace, self.mass, x.as_ref(), self.scale);
         self.chol.l_solve_permuted(out);
     }
 }
@@ -219,7 +219,7 @@ pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> 
     } else {
         // Normalise the operator by its largest eigenvalue (power iteration estimate) so the
         // absolute Lanczos tolerance becomes relative.
-        let est = crate::linalg::operator_norm_estimate(n, 30, |w, v| op0.apply_to(w, v));
+        let est = crate::linalg::eigen::operator_norm_estimate(n, 30, |w, v| op0.apply_to(w, v));
         if !(est.is_finite() && est > 0.0) {
             return Err(JpError::Eigen { what: format!("shift-invert operator norm estimate {est}") });
         }

@@ -20,7 +20,7 @@
 //! DoFs: node `i` (root nodes excluded) owns `3 i + {0, 1, 2}`.
 
 use super::hex8::{self, Material};
-use super::{sparse_from_triplets, SparseMat};
+use crate::linalg::sparse::{sparse_from_triplets, SparseMat};
 use crate::contact::ContactLaw;
 use crate::error::{JpError, Result};
 

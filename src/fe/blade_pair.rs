@@ -43,7 +43,8 @@
 //!
 //! Outputs: blade A's 9 output nodes, then blade B's (`x, y, z` each: 54 output DoFs).
 
-use super::blade::{dense_generalized_eigenvalues, BladeFe, CbModel};
+use super::blade::{BladeFe, CbModel};
+use crate::linalg::eigen::dense_generalized_eigenvalues;
 use super::BladeParams;
 use crate::contact::Contact;
 use crate::error::{check_finite, JpError, Result};
@@ -357,7 +358,7 @@ impl BladePair {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cms::BuiltinBlade;
+    use crate::fe::BuiltinBlade;
 
     fn coarse() -> BladeParams {
         BladeParams { n_span: 9, n_chord: 2, n_thickness: 1, n_shroud_gap: 1, ..BladeParams::default() }

@@ -18,8 +18,8 @@
 //! `n_i x (n_modes + a few hundred)` dense columns. The modes come from
 //! [`super::eigen::lowest_modes`]. No `n x n` dense block is ever formed.
 
-use super::eigen::{lowest_modes, SparseCholesky};
-use super::{sparse_dense_block, sparse_submatrix, SparseMat};
+use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
+use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};

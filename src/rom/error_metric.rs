@@ -41,7 +41,7 @@ use crate::condensation::CondensedSystem;
 use crate::hbm::residual::{evaluate, ResidualWorkspace};
 use crate::hbm::HarmonicSystem;
 use crate::error::{JpError, Result};
-use crate::hbm::{HarmonicLayout, PointSolution};
+use crate::hbm::PointSolution;
 use crate::rom::ReducedModel;
 
 /// Threshold of `e*_1` above which a basis is called poor (the paper's practical limit).
@@ -59,32 +59,13 @@ pub fn reduced_contact_displacement(rom: &dyn ReducedModel, omega: f64, z: &[f64
 }
 
 /// Harmonic-major contact displacement `w` of a full-order or condensed full-order solution
-/// (a system whose unknowns start with `w` in every coefficient).
+/// (a system whose unknowns start with `w` in every coefficient); see
+/// [`PointSolution::contact_displacement`].
 ///
 /// # Errors
-/// [`JpError::BadSize`] if the solution's layout is smaller than `n_w` per harmonic.
+/// As [`PointSolution::contact_displacement`].
 pub fn full_order_contact_displacement(fo: &PointSolution, n_w: usize) -> Result<Vec<f64>> {
-    contact_rows_of(&fo.layout, &fo.z, n_w)
-}
-
-fn contact_rows_of(layout: &HarmonicLayout, z: &[f64], n_w: usize) -> Result<Vec<f64>> {
-    if z.len() != layout.total() {
-        return Err(JpError::bad_size("solution z", layout.total(), z.len()));
-    }
-    let nc = 2 * layout.harmonics + 1;
-    let mut w = Vec::with_capacity(nw_checked(layout, n_w)? * nc);
-    for k in 0..nc {
-        let (o, _) = layout.coeff_range(k);
-        w.extend_from_slice(&z[o..o + n_w]);
-    }
-    Ok(w)
-}
-
-fn nw_checked(layout: &HarmonicLayout, n_w: usize) -> Result<usize> {
-    if layout.sizes.iter().any(|&s| s < n_w) {
-        return Err(JpError::bad_size("solution unknowns per harmonic", n_w, *layout.sizes.iter().min().unwrap_or(&0)));
-    }
-    Ok(n_w)
+    fo.contact_displacement(n_w)
 }
 
 /// Contact forces (and, on request, cycle reports) at the harmonic-major `w`.
@@ -186,8 +167,8 @@ pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, pla
     let mut ws = ResidualWorkspace::new();
     let (r, jac) = evaluate(condensed, &lin, Some(plan), &w, true, &mut ws)?;
     let jac = jac.expect("jacobian requested");
-    let lu = crate::hbm::solve::lu_checked(&jac, &format!("condensed full-order Jacobian at omega = {omega} (linearised error)"))?;
-    let dw = crate::hbm::solve::lu_solve(&lu, &r);
+    let lu = crate::linalg::lu_checked(&jac, &format!("condensed full-order Jacobian at omega = {omega} (linearised error)"))?;
+    let dw = crate::linalg::lu_solve(&lu, &r);
     let corrected: Vec<f64> = w.iter().zip(&dw).map(|(a, d)| a - d).collect();
     let f_rom = split(&contact_forces(rom, plan, &w, false).force, nw, 2 * hh + 1);
     let f_new = split(&contact_forces(rom, plan, &corrected, false).force, nw, 2 * hh + 1);

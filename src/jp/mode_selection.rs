@@ -1,0 +1,64 @@
+//! Which eigenpairs of the JP eigenproblem (31) become JP modes, and how it is solved.
+
+use serde::{Deserialize, Serialize};
+
+/// Which eigenpairs of (31) become JP modes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModeOptions {
+    /// Analysis band `[omega_lo, omega_hi]`, angular frequency (rad/s).
+    pub band: (f64, f64),
+    /// Number of further eigenpairs, nearest to the band (in `sqrt(Re λ)`), kept as well.
+    /// Eigenvalues are counted one by one (a stuck pair counts 2).
+    pub extra_outside: usize,
+    /// Add the static-correction vectors of the condensed problem (a jprom extension of (33),
+    /// the mode-acceleration idea of CMS): `K_JC^-1 F_h` for the harmonic forcing `F_h` of each
+    /// loaded harmonic and `K_JC^-1 K̂_J0 A_0^-1 (f_E^0 + g)` for the static load's coupling into
+    /// the harmonics. They carry the quasi-static response of every mode the band leaves out,
+    /// which is what limits the accuracy of an in-band basis away from the resonance peak and
+    /// in the static term. Default `true`.
+    #[serde(default = "default_static_correction")]
+    pub static_correction: bool,
+    /// Eigen solver of (31) (default [`EigenSolver::Auto`]).
+    #[serde(default)]
+    pub solver: EigenSolver,
+}
+
+/// How the eigenproblem (31) is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EigenSolver {
+    /// Dense non-symmetric eigen solve of the whole condensed problem, `O((2 H n)^3)`.
+    Dense,
+    /// A few eigenpairs around the band by shift-invert Arnoldi over a factorisation of
+    /// `K_JC - σ M_JC` ([`crate::jp::shift_invert`]).
+    ShiftInvert,
+    /// [`EigenSolver::Dense`] up to [`AUTO_DENSE_MAX`] = `2 H n`, else
+    /// [`EigenSolver::ShiftInvert`].
+    #[default]
+    Auto,
+}
+
+/// Largest condensed size `2 H n` that [`EigenSolver::Auto`] solves densely.
+pub const AUTO_DENSE_MAX: usize = 600;
+
+impl EigenSolver {
+    /// The solver used for a condensed problem of size `dim = 2 H n`.
+    pub fn resolve(self, dim: usize) -> EigenSolver {
+        match self {
+            EigenSolver::Auto if dim <= AUTO_DENSE_MAX => EigenSolver::Dense,
+            EigenSolver::Auto => EigenSolver::ShiftInvert,
+            s => s,
+        }
+    }
+}
+
+fn default_static_correction() -> bool {
+    true
+}
+
+impl ModeOptions {
+    /// The in-band eigenpairs of `band` with the static correction, nothing outside.
+    pub fn in_band(band: (f64, f64)) -> Self {
+        ModeOptions { band, extra_outside: 0, static_correction: true, solver: EigenSolver::Auto }
+    }
+}
+
