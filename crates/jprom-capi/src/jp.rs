@@ -1,0 +1,534 @@
+//! Jacobian Projection from C: predicting a `jprom_basis` (method.md §7-8), sweeping the FR or
+//! NLR reduced model (§9) with the error predictor `e*` (§10) at every point.
+
+use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
+use super::handle::{self, Handle};
+use super::model::jprom_model;
+use super::solve::{
+    cancelled_status, hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_solution, jprom_sweep_options, jprom_sweep_result, progress_adapter,
+    sweep_options, Origin,
+};
+use super::status::jprom_status::{self, *};
+use super::status::FfiError;
+use jprom::aft::AftPlan;
+use jprom::condensation::CondensedSystem;
+use jprom::rom::error_metric::actual_error;
+use jprom::rom;
+use jprom::hbm::{HbmOptions, PointSolution, SweepEnd};
+use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
+use jprom::model::ContactCoordinates;
+use jprom::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
+use std::ffi::{c_char, c_int, c_void};
+use std::ops::ControlFlow;
+
+/// A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
+#[allow(non_camel_case_types)]
+pub struct jprom_basis {
+    magic: u64,
+    basis: JpBasis,
+}
+
+impl Handle for jprom_basis {
+    const MAGIC: u64 = 0x4A50_524F_4D42_4153; // "JPROMBAS"
+    const KIND: &'static str = "jprom_basis";
+    fn magic_mut(&mut self) -> &mut u64 {
+        &mut self.magic
+    }
+    fn magic(&self) -> u64 {
+        self.magic
+    }
+}
+
+/// Full-DoF reduced model (FR): `q_h = Φ_h p_h` on all DoFs.
+pub const JPROM_ROM_FR: c_int = 0;
+/// Nonlinear-DoF reduced model (NLR) on the condensed system.
+pub const JPROM_ROM_NLR: c_int = 1;
+
+/// Predicts a JP basis for `model` without any full-order solution: boundary conditions
+/// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
+/// `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
+/// with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
+/// AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_predict(
+    model: *const jprom_model,
+    options: *const jprom_hbm_options,
+    omega_lo: f64,
+    omega_hi: f64,
+    gamma: f64,
+    n_samples: usize,
+    out: *mut *mut jprom_basis,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let out = out_arg(out, "out")?;
+        let hopts = hbm_options(o)?;
+        let band = (finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?);
+        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let mut p = PredictionOptions::new(band);
+        p.harmonics = hopts.harmonics;
+        p.nt = hopts.nt;
+        p.gamma = finite_arg("gamma", gamma)?;
+        jprom::limits::at_most("n_samples", n_samples, jprom::limits::MAX_SAMPLES)?;
+        p.n_samples = n_samples;
+        let (basis, _) = predict_basis(&coords, &p)?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// Releases a basis (NULL is a no-op).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_free(basis: *mut jprom_basis) -> jprom_status {
+    ffi_guard!({ handle::free(basis, "basis") })
+}
+
+/// Basis sizes `n_h`, `h = 0..H` (`H + 1` values) into `buf` of capacity `len`; `*harmonics`
+/// (may be NULL) receives `H`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_sizes(basis: *const jprom_basis, buf: *mut usize, len: usize, harmonics: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let b = &handle::get(basis, "basis")?.basis;
+        if let Some(h) = harmonics.as_mut() {
+            *h = b.harmonics();
+        }
+        check_capacity("buf", b.sizes.len(), len)?;
+        slice_out(buf, b.sizes.len(), "buf")?.copy_from_slice(&b.sizes);
+        Ok(())
+    })
+}
+
+/// Saves a basis as versioned JSON.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_save_json(basis: *const jprom_basis, path: *const c_char) -> jprom_status {
+    ffi_guard!({
+        handle::get(basis, "basis")?.basis.save_json(&path_arg(path, "path")?)?;
+        Ok(())
+    })
+}
+
+/// Loads a basis saved by `jprom_basis_save_json`, checked as a whole (every matrix against
+/// `n_dof` and `sizes`; `JPROM_PARSE` naming the key and line otherwise).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_load_json(path: *const c_char, out: *mut *mut jprom_basis) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let basis: JpBasis = jprom::io::load_document(&path_arg(path, "path")?)?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// Sweeps the reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) of `model` on `basis`,
+/// like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
+/// predictor `e*_h` at every point (`jprom_sweep_point_predicted_error`; above about 0.05
+/// for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_rom_sweep(
+    model: *const jprom_model,
+    basis: *const jprom_basis,
+    kind: c_int,
+    options: *const jprom_hbm_options,
+    sweep_opts: *const jprom_sweep_options,
+    callback: jprom_progress_fn,
+    user_data: *mut c_void,
+    out: *mut *mut jprom_sweep_result,
+) -> jprom_status {
+    let mut cancelled = false;
+    let status = ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let b = &handle::get(basis, "basis")?.basis;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let out = out_arg(out, "out")?;
+        let hopts = hbm_options(o)?;
+        let sopts = sweep_options(so)?;
+        let rom = build_rom(m, b, rom_kind(kind)?, &hopts)?;
+        let mut on_point = progress_adapter(callback, user_data);
+        let (result, errors) = rom::sweep_with_predicted_error(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
+        cancelled = result.end == SweepEnd::StoppedByCaller;
+        *out = jprom_sweep_result::wrap(result, errors, Vec::new(), Origin::Reduced);
+        Ok(())
+    });
+    cancelled_status(status, cancelled)
+}
+
+/// Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a
+/// full-order sweep, which has none).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_sweep_result, index: usize, h: usize, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        let e = s
+            .predicted_errors
+            .get(index)
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("no predicted error for point {index} (full-order sweep, or index >= {})", s.predicted_errors.len())))?;
+        *out_arg(out, "out")? = *e.get(h).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("harmonic {h} > H = {}", e.len().saturating_sub(1))))?;
+        Ok(())
+    })
+}
+
+/// `kind` of the C API as a [`RomKind`].
+fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
+    match kind {
+        JPROM_ROM_FR => Ok(RomKind::Fr),
+        JPROM_ROM_NLR => Ok(RomKind::Nlr),
+        other => Err(FfiError::new(JPROM_INVALID_VALUE, format!("kind must be JPROM_ROM_FR (0) or JPROM_ROM_NLR (1), got {other}"))),
+    }
+}
+
+fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, hopts: &HbmOptions) -> Result<Box<dyn ReducedModel>, FfiError> {
+    let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+    let condensed = if kind == RomKind::Nlr { Some(CondensedSystem::new(&m.model, hopts)?) } else { None };
+    Ok(rom::reduced_model(kind, &coords, condensed.as_ref(), b)?)
+}
+
+/// Settings of the JP basis and of the self-correcting sweep. Fill with
+/// `jprom_jp_options_default`, then change fields. `struct_size` must stay
+/// `sizeof(jprom_jp_options)` (lets the struct grow). Used by `jprom_basis_predict_opts`,
+/// `jprom_basis_from_solution` (basis fields only) and `jprom_rom_sweep_adaptive` (all).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+#[allow(non_camel_case_types)]
+pub struct jprom_jp_options {
+    pub struct_size: usize,
+    /// Conditioning ratio `gamma >= 1` of the SVD (default 1e3; typically 1e2 to 1e4, larger
+    /// is bigger and more accurate).
+    pub gamma: f64,
+    /// Amplitudes sampled along the generating shape by the prediction (default 100, >= 1,
+    /// at most `JPROM_MAX_SAMPLES`).
+    pub n_samples: usize,
+    /// Eigenpairs kept outside the band as well, nearest first (default 2).
+    pub extra_outside: usize,
+    /// 0 (default, as the prediction): eigenvectors only; 1: add the static-correction vectors
+    /// `K_JC^-1 F` to the JP modes. Worth 1 for `jprom_basis_from_solution` (a basis of one
+    /// Jacobian); in the prediction every contact state would add its own.
+    pub static_correction: c_int,
+    /// Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
+    /// exceeds this (default 0.05; must be > 0).
+    pub threshold: f64,
+    /// Most corrections (default 5; 0 = predict and sweep once).
+    pub max_corrections: usize,
+    /// Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
+    /// (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
+    pub gamma_growth: f64,
+    pub max_gamma: f64,
+}
+
+/// Writes the defaults into `*out`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) -> jprom_status {
+    ffi_guard!({
+        let p = PredictionOptions::new((0.0, 0.0));
+        let a = AdaptiveOptions::default();
+        *out_arg(out, "out")? = jprom_jp_options {
+            struct_size: std::mem::size_of::<jprom_jp_options>(),
+            gamma: p.gamma,
+            n_samples: p.n_samples,
+            extra_outside: p.modes.extra_outside,
+            static_correction: p.modes.static_correction as c_int,
+            threshold: a.threshold,
+            max_corrections: a.max_corrections,
+            gamma_growth: a.gamma_growth,
+            max_gamma: a.max_gamma,
+        };
+        Ok(())
+    })
+}
+
+/// The `jp_options` argument: not NULL, of this version's size, with finite and consistent
+/// values.
+unsafe fn jp_options_arg<'a>(p: *const jprom_jp_options) -> Result<&'a jprom_jp_options, FfiError> {
+    let o = p.as_ref().ok_or_else(|| FfiError::null("jp_options"))?;
+    if o.struct_size != std::mem::size_of::<jprom_jp_options>() {
+        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_jp_options.struct_size: fill the options with jprom_jp_options_default"));
+    }
+    finite_arg("gamma", o.gamma)?;
+    finite_arg("threshold", o.threshold)?;
+    finite_arg("gamma_growth", o.gamma_growth)?;
+    finite_arg("max_gamma", o.max_gamma)?;
+    jprom::limits::at_most("jprom_jp_options.n_samples", o.n_samples, jprom::limits::MAX_SAMPLES)?;
+    if o.max_gamma < o.gamma {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
+    }
+    Ok(o)
+}
+
+fn mode_options(o: &jprom_jp_options, band: (f64, f64)) -> ModeOptions {
+    let mut m = ModeOptions::in_band(band);
+    m.extra_outside = o.extra_outside;
+    m.static_correction = o.static_correction != 0;
+    m
+}
+
+fn prediction_options(o: &jprom_jp_options, hopts: &HbmOptions, band: (f64, f64)) -> PredictionOptions {
+    let mut p = PredictionOptions::new(band);
+    p.harmonics = hopts.harmonics;
+    p.nt = hopts.nt;
+    p.gamma = o.gamma;
+    p.n_samples = o.n_samples;
+    p.modes = mode_options(o, band);
+    p
+}
+
+fn band_arg(omega_lo: f64, omega_hi: f64) -> Result<(f64, f64), FfiError> {
+    Ok((finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?))
+}
+
+/// `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
+/// `extra_outside`, `static_correction`; the sweep fields are ignored). `*out` is written only
+/// on success; free it with `jprom_basis_free`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_predict_opts(
+    model: *const jprom_model,
+    options: *const jprom_hbm_options,
+    jp_options: *const jprom_jp_options,
+    omega_lo: f64,
+    omega_hi: f64,
+    out: *mut *mut jprom_basis,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let jo = jp_options_arg(jp_options)?;
+        let out = out_arg(out, "out")?;
+        let hopts = hbm_options(o)?;
+        let band = band_arg(omega_lo, omega_hi)?;
+        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let (basis, _) = predict_basis(&coords, &prediction_options(jo, &hopts, band))?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// The basis of a full-order solution's own boundary conditions (method.md §6): the contact
+/// stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
+/// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
+/// ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
+/// solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
+/// samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
+/// written only on success; free it with `jprom_basis_free`. The solution stays the caller's.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_basis_from_solution(
+    model: *const jprom_model,
+    solution: *const jprom_solution,
+    options: *const jprom_hbm_options,
+    jp_options: *const jprom_jp_options,
+    omega_lo: f64,
+    omega_hi: f64,
+    out: *mut *mut jprom_basis,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let sol = handle::get(solution, "solution")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let jo = jp_options_arg(jp_options)?;
+        let out = out_arg(out, "out")?;
+        if sol.origin == Origin::Reduced {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
+        }
+        let hopts = hbm_options(o)?;
+        let band = band_arg(omega_lo, omega_hi)?;
+        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+        let bopts = BasisOptions { modes: mode_options(jo, band), gamma: jo.gamma };
+        let basis = JpBasis::from_solution(&coords, &sol.point, &plan, &bopts)?;
+        *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
+        Ok(())
+    })
+}
+
+/// The self-correcting reduced sweep, jprom's default JP workflow (method.md §7, §10): predicts
+/// a basis for the band `[sweep_opts->omega_start, omega_end]` along the stuck mode, sweeps the
+/// reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
+/// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
+/// unites the basis with modes regenerated from the worst reduced point (or predicted with a
+/// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_n_corrections` /
+/// `jprom_sweep_correction`, `e*` with `jprom_sweep_point_predicted_error`.
+///
+/// `callback` (may be NULL) is called after each converged point of each reduced sweep;
+/// `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
+/// that sweep stops, no further correction is made, and the call returns `JPROM_CANCELLED`
+/// with `*out` (and `*basis_out`) written all the same, as `jprom_sweep`.
+///
+/// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
+/// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
+/// On failure neither is written.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
+    model: *const jprom_model,
+    kind: c_int,
+    options: *const jprom_hbm_options,
+    sweep_opts: *const jprom_sweep_options,
+    jp_options: *const jprom_jp_options,
+    callback: jprom_progress_fn,
+    user_data: *mut c_void,
+    out: *mut *mut jprom_sweep_result,
+    basis_out: *mut *mut jprom_basis,
+) -> jprom_status {
+    let mut cancelled = false;
+    let status = ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let jo = jp_options_arg(jp_options)?;
+        let out = out_arg(out, "out")?;
+        let kind = rom_kind(kind)?;
+        let hopts = hbm_options(o)?;
+        let sopts = sweep_options(so)?;
+        // the JP band is the band swept, whichever way it is swept
+        let pred = prediction_options(jo, &hopts, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
+        let aopts = AdaptiveOptions {
+            kind,
+            threshold: jo.threshold,
+            max_corrections: jo.max_corrections,
+            gamma_growth: jo.gamma_growth,
+            max_gamma: jo.max_gamma,
+            ..AdaptiveOptions::default()
+        };
+        // one progress counter per reduced sweep
+        let mut pass_now = 0;
+        let mut adapter = progress_adapter(callback, user_data);
+        let mut on_point = |pass: usize, p: &PointSolution| -> ControlFlow<()> {
+            if pass != pass_now {
+                pass_now = pass;
+                adapter = progress_adapter(callback, user_data);
+            }
+            adapter(p)
+        };
+        let a = adaptive_sweep_with_progress(&m.model, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
+        cancelled = a.sweep.end == SweepEnd::StoppedByCaller;
+        *out = jprom_sweep_result::wrap(a.sweep, a.predicted_errors, a.corrections, Origin::Reduced);
+        if let Some(b) = basis_out.as_mut() {
+            *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis: a.basis });
+        }
+        Ok(())
+    });
+    cancelled_status(status, cancelled)
+}
+
+/// A correction of `jprom_rom_sweep_adaptive`: modes regenerated from the reduced solution at
+/// the point of worst `e*_1` (the value is that point's omega, rad/s).
+pub const JPROM_CORRECTION_REGENERATED: c_int = 0;
+/// A correction of `jprom_rom_sweep_adaptive`: modes predicted with a larger `gamma` (the
+/// value is the new gamma).
+pub const JPROM_CORRECTION_GAMMA_INCREASED: c_int = 1;
+
+/// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
+/// other sweep, and when the first basis was good enough).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.corrections.len();
+        Ok(())
+    })
+}
+
+/// Correction `index` (in order, 0-based) of an adaptive sweep: its kind
+/// (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
+/// regenerated from or the new gamma (`value`), the worst `e*_1` of the sweep before and after
+/// it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
+/// may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
+/// of range, `JPROM_BAD_SIZE` if `len` is nonzero but below `H + 1`; nothing is written then.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_correction(
+    sweep: *const jprom_sweep_result,
+    index: usize,
+    kind: *mut c_int,
+    value: *mut f64,
+    worst_before: *mut f64,
+    worst_after: *mut f64,
+    sizes: *mut usize,
+    len: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        let c = s
+            .corrections
+            .get(index)
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.corrections.len())))?;
+        if len > 0 {
+            check_capacity("sizes", c.sizes.len(), len)?;
+        }
+        let buf = slice_out(sizes, if len > 0 { c.sizes.len() } else { 0 }, "sizes")?;
+        let (k, v) = match c.kind {
+            CorrectionKind::Regenerated { from_omega } => (JPROM_CORRECTION_REGENERATED, from_omega),
+            CorrectionKind::GammaIncreased { gamma } => (JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+        };
+        buf.copy_from_slice(&c.sizes[..buf.len()]);
+        if let Some(x) = kind.as_mut() {
+            *x = k;
+        }
+        if let Some(x) = value.as_mut() {
+            *x = v;
+        }
+        if let Some(x) = worst_before.as_mut() {
+            *x = c.worst_error_before;
+        }
+        if let Some(x) = worst_after.as_mut() {
+            *x = c.worst_error_after;
+        }
+        Ok(())
+    })
+}
+
+/// The actual error `e_h`, `h = 0..H` (method.md §10, paper (44)) of a reduced solution: the
+/// contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
+/// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
+/// full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
+/// reduced ones. `model`, `basis`, `kind` and `options` must be those of the reduced sweep
+/// (they rebuild the reduced model; `JPROM_BAD_SIZE` if the basis does not match the
+/// solution). `H + 1` values go to `buf` of capacity `len`. `JPROM_INVALID_VALUE` if the two
+/// omegas differ (beyond 1e-9 relative), if `rom_solution` is full-order or `full_solution`
+/// reduced. Compare with `jprom_sweep_point_predicted_error` (`e*`, which needs no full-order
+/// solution).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_rom_actual_error(
+    model: *const jprom_model,
+    basis: *const jprom_basis,
+    kind: c_int,
+    options: *const jprom_hbm_options,
+    rom_solution: *const jprom_solution,
+    full_solution: *const jprom_solution,
+    buf: *mut f64,
+    len: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let b = &handle::get(basis, "basis")?.basis;
+        let rs = handle::get(rom_solution, "rom_solution")?;
+        let fs = handle::get(full_solution, "full_solution")?;
+        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let kind = rom_kind(kind)?;
+        let hopts = hbm_options(o)?;
+        check_capacity("buf", hopts.harmonics + 1, len)?;
+        let buf = slice_out(buf, hopts.harmonics + 1, "buf")?;
+        if rs.origin == Origin::FullOrder {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'rom_solution' is a full-order solution; pass a point of a ROM sweep"));
+        }
+        if fs.origin == Origin::Reduced {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "'full_solution' is a reduced solution; pass a full-order one"));
+        }
+        let (rp, fp) = (&rs.point, &fs.point);
+        if !((rp.omega - fp.omega).abs() <= 1e-9 * rp.omega.abs()) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("the solutions are at different frequencies ({} and {} rad/s)", rp.omega, fp.omega)));
+        }
+        let rom = build_rom(m, b, kind, &hopts)?;
+        if rom.layout().sizes != rp.layout.sizes {
+            return Err(FfiError::new(
+                JPROM_BAD_SIZE,
+                format!("'rom_solution' has {:?} reduced unknowns per harmonic, the basis {:?}", rp.layout.sizes, rom.layout().sizes),
+            ));
+        }
+        let (n, nw) = (m.model.n_dof(), rom.n_contact_coords());
+        let n0 = fp.layout.sizes.first().copied().unwrap_or(0);
+        if (n0 != n && n0 != nw) || fp.layout.sizes.iter().any(|&s| s != n0) {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("'full_solution' has {:?} unknowns per harmonic, not {n} (full) or {nw} (condensed)", fp.layout.sizes)));
+        }
+        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+        let e = actual_error(rom.as_ref(), &plan, rp.omega, &rp.z, fp)?;
+        buf.copy_from_slice(&e);
+        Ok(())
+    })
+}

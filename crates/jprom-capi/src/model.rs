@@ -1,0 +1,425 @@
+//! `jprom_model`: building a structural model (method.md §1) from C.
+//!
+//! A model starts from `M` and `K` and is completed by setters; each setter validates the
+//! whole model and leaves it unchanged on failure.
+
+use super::guard::{ffi_guard, finite_arg, mul_size, out_arg, path_arg, slice_arg};
+use super::handle::{self, Handle};
+use super::status::jprom_status::{self, *};
+use super::status::FfiError;
+use jprom::contact::{Contact, ContactLaw};
+use jprom::error::Result;
+use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+use faer::Mat;
+use std::ffi::c_char;
+
+/// Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
+/// Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
+/// `jprom_model_clone`; owned by the caller, released with `jprom_model_free`.
+#[allow(non_camel_case_types)]
+pub struct jprom_model {
+    magic: u64,
+    pub(crate) model: Model,
+}
+
+impl Handle for jprom_model {
+    const MAGIC: u64 = 0x4A50_524F_4D4D_4F44; // "JPROMMOD"
+    const KIND: &'static str = "jprom_model";
+    fn magic_mut(&mut self) -> &mut u64 {
+        &mut self.magic
+    }
+    fn magic(&self) -> u64 {
+        self.magic
+    }
+}
+
+impl jprom_model {
+    pub(crate) fn wrap(model: Model) -> *mut jprom_model {
+        handle::into_raw(jprom_model { magic: Self::MAGIC, model })
+    }
+}
+
+/// Largest model size accepted by `jprom_model_new_csc` (the model is stored dense:
+/// two `n x n` matrices of doubles).
+pub const JPROM_DENSE_MAX_DOF: usize = 10000;
+
+/// Applies `set` to the model, validates, and restores the previous value on failure.
+fn replace_validated<T>(model: &mut Model, field: fn(&mut Model) -> &mut T, value: T) -> Result<()> {
+    let old = std::mem::replace(field(model), value);
+    if let Err(e) = model.validate() {
+        *field(model) = old;
+        return Err(e);
+    }
+    Ok(())
+}
+
+fn new_model(mass: Mat<f64>, stiffness: Mat<f64>) -> Result<Model> {
+    let n = stiffness.nrows();
+    Model::new(mass, stiffness, Damping::default(), Excitation::zero(n), Vec::new(), Vec::new())
+}
+
+/// Creates a model with `n` DoFs from dense, column-major `n x n` mass and stiffness
+/// matrices (both symmetric; `M` with positive diagonal). Damping, excitation, contacts and
+/// output DoFs start empty. The arrays are copied.
+///
+/// On success `*out` receives a new handle (free it with `jprom_model_free`); on failure
+/// `*out` is not written.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_new(
+    n: usize,
+    mass: *const f64,
+    stiffness: *const f64,
+    out: *mut *mut jprom_model,
+) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        if n == 0 {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "n must be > 0"));
+        }
+        let nn = mul_size("mass", n, n)?;
+        let m = slice_arg(mass, nn, "mass")?;
+        let k = slice_arg(stiffness, nn, "stiffness")?;
+        // the model keeps M and K dense, and its checks make a copy
+        jprom::memory::check(&format!("a dense model of n = {n}"), jprom::memory::bytes_of::<f64>(jprom::memory::product(&[3, n, n])))?;
+        let model = new_model(
+            Mat::from_fn(n, n, |i, j| m[i + j * n]),
+            Mat::from_fn(n, n, |i, j| k[i + j * n]),
+        )?;
+        *out = jprom_model::wrap(model);
+        Ok(())
+    })
+}
+
+/// Reads one CSC matrix (0-based `colptr[n + 1]`, `rowind[nnz]`, `values[nnz]`,
+/// `nnz = colptr[n]`) into a dense matrix, summing duplicates.
+unsafe fn csc_to_dense(
+    name: &str,
+    n: usize,
+    colptr: *const usize,
+    rowind: *const usize,
+    values: *const f64,
+) -> std::result::Result<Mat<f64>, FfiError> {
+    let cp = slice_arg(colptr, n + 1, &format!("{name}_colptr"))?;
+    if cp[0] != 0 || cp.windows(2).any(|w| w[1] < w[0]) {
+        return Err(FfiError::new(
+            JPROM_INVALID_VALUE,
+            format!("{name}_colptr must start at 0 and be non-decreasing"),
+        ));
+    }
+    let nnz = cp[n];
+    let ri = slice_arg(rowind, nnz, &format!("{name}_rowind"))?;
+    let va = slice_arg(values, nnz, &format!("{name}_values"))?;
+    let mut a = Mat::<f64>::zeros(n, n);
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if i >= n {
+                return Err(FfiError::new(
+                    JPROM_INVALID_VALUE,
+                    format!("{name}_rowind[{p}] = {i} is >= n = {n}"),
+                ));
+            }
+            a[(i, j)] += va[p];
+        }
+    }
+    Ok(a)
+}
+
+/// Creates a model from mass and stiffness matrices in compressed sparse column form
+/// (0-based; `*_colptr` has `n + 1` entries starting at 0, `*_rowind` and `*_values` have
+/// `colptr[n]` entries; both triangles must be given; duplicates are summed). The model is
+/// stored dense, so `n <= JPROM_DENSE_MAX_DOF` (else `JPROM_BAD_SIZE`).
+///
+/// Ownership and `*out` as for `jprom_model_new`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_new_csc(
+    n: usize,
+    mass_colptr: *const usize,
+    mass_rowind: *const usize,
+    mass_values: *const f64,
+    stiffness_colptr: *const usize,
+    stiffness_rowind: *const usize,
+    stiffness_values: *const f64,
+    out: *mut *mut jprom_model,
+) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        if n == 0 {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, "n must be > 0"));
+        }
+        if n > JPROM_DENSE_MAX_DOF {
+            return Err(FfiError::new(
+                JPROM_BAD_SIZE,
+                format!("n = {n} exceeds JPROM_DENSE_MAX_DOF = {JPROM_DENSE_MAX_DOF}"),
+            ));
+        }
+        let m = csc_to_dense("mass", n, mass_colptr, mass_rowind, mass_values)?;
+        let k = csc_to_dense("stiffness", n, stiffness_colptr, stiffness_rowind, stiffness_values)?;
+        *out = jprom_model::wrap(new_model(m, k)?);
+        Ok(())
+    })
+}
+
+/// Deep copy of a model (e.g. to give each thread its own). `*out` as for `jprom_model_new`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_clone(model: *const jprom_model, out: *mut *mut jprom_model) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let out = out_arg(out, "out")?;
+        *out = jprom_model::wrap(m.model.clone());
+        Ok(())
+    })
+}
+
+/// Releases a model. NULL is accepted (no-op). A pointer that is not a live model (already
+/// freed, or another handle kind) returns `JPROM_INVALID_HANDLE` when detectable and frees
+/// nothing.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_free(model: *mut jprom_model) -> jprom_status {
+    ffi_guard!({ handle::free(model, "model") })
+}
+
+/// Number of DoFs `n`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_n_dof(model: *const jprom_model, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        *out_arg(out, "out")? = m.model.n_dof();
+        Ok(())
+    })
+}
+
+/// Number of contacts added so far (contact `i` is the `i`-th added, 0-based).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_n_contacts(model: *const jprom_model, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        *out_arg(out, "out")? = m.model.contacts.len();
+        Ok(())
+    })
+}
+
+/// Number of output DoFs.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_n_outputs(model: *const jprom_model, out: *mut usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        *out_arg(out, "out")? = m.model.output_dofs.len();
+        Ok(())
+    })
+}
+
+/// Proportional damping `C = alpha M + beta K` (both `>= 0`, finite).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_rayleigh_damping(model: *mut jprom_model, alpha: f64, beta: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let d = Damping { mass_coeff: alpha, stiffness_coeff: beta };
+        replace_validated(&mut m.model, |m| &mut m.damping, d)?;
+        Ok(())
+    })
+}
+
+/// Stiffness-proportional damping with modal damping ratio `zeta` at angular frequency
+/// `omega` (rad/s): `beta = 2 zeta / omega`, `alpha = 0`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_modal_damping(model: *mut jprom_model, zeta: f64, omega: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        finite_arg("zeta", zeta)?;
+        if !(finite_arg("omega", omega)? > 0.0) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("omega must be > 0, got {omega}")));
+        }
+        replace_validated(&mut m.model, |m| &mut m.damping, Damping::from_modal_ratio(zeta, omega))?;
+        Ok(())
+    })
+}
+
+/// Static force `f_E^0` (length `n`, must equal the model's DoF count).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_static_force(model: *mut jprom_model, force: *const f64, n: usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let f = slice_arg(force, n, "force")?.to_vec();
+        replace_validated(&mut m.model, |m| &mut m.excitation.static_force, f)?;
+        Ok(())
+    })
+}
+
+/// Highest harmonic index accepted by `jprom_model_set_harmonic_force`.
+pub const JPROM_MAX_FORCE_HARMONIC: usize = 1024;
+
+/// Harmonic `h >= 1` of the excitation: `f(t) = cos_part cos(h omega t) + sin_part sin(h omega t)`
+/// (before the dynamic scale). Both arrays have length `n`, which must be the model's DoF
+/// count (else `JPROM_BAD_SIZE`); either may be NULL, meaning zero. Harmonics never set are
+/// zero.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_harmonic_force(
+    model: *mut jprom_model,
+    h: usize,
+    cos_part: *const f64,
+    sin_part: *const f64,
+    n: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        if h == 0 || h > JPROM_MAX_FORCE_HARMONIC {
+            return Err(FfiError::new(
+                JPROM_INVALID_VALUE,
+                format!("harmonic h = {h} must be in 1..={JPROM_MAX_FORCE_HARMONIC} (use jprom_model_set_static_force for h = 0)"),
+            ));
+        }
+        // the length is checked before anything is allocated from it
+        let n_dof = m.model.n_dof();
+        if n != n_dof {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("n = {n} must equal the model's DoF count {n_dof}")));
+        }
+        jprom::memory::check("the harmonic forces", jprom::memory::bytes_of::<f64>(jprom::memory::product(&[2, h, n_dof])))?;
+        let part = |p: *const f64, name: &str| -> std::result::Result<Vec<f64>, FfiError> {
+            if p.is_null() { Ok(vec![0.0; n]) } else { Ok(slice_arg(p, n, name)?.to_vec()) }
+        };
+        let hf = HarmonicForce { cos: part(cos_part, "cos_part")?, sin: part(sin_part, "sin_part")? };
+        let mut harmonics = m.model.excitation.harmonics.clone();
+        while harmonics.len() < h {
+            harmonics.push(HarmonicForce { cos: vec![0.0; n_dof], sin: vec![0.0; n_dof] });
+        }
+        harmonics[h - 1] = hf;
+        replace_validated(&mut m.model, |m| &mut m.excitation.harmonics, harmonics)?;
+        Ok(())
+    })
+}
+
+/// Multiplier of all harmonic (dynamic) force parts; default 1.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_dynamic_scale(model: *mut jprom_model, scale: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        replace_validated(&mut m.model, |m| &mut m.excitation.dynamic_scale, finite_arg("scale", scale)?)?;
+        Ok(())
+    })
+}
+
+/// Sets the dynamic scale so that the excitation level `|f_E^0| / |f_E^1|` equals `alpha > 0`
+/// (needs nonzero static and first-harmonic forces).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_excitation_level(model: *mut jprom_model, alpha: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        m.model.excitation.set_level(alpha)?;
+        Ok(())
+    })
+}
+
+/// Current excitation level `|f_E^0| / |f_E^1|` (infinite without dynamic force).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_excitation_level(model: *const jprom_model, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        *out_arg(out, "out")? = m.model.excitation.level();
+        Ok(())
+    })
+}
+
+fn push_contact(model: &mut Model, c: Contact) -> Result<()> {
+    model.contacts.push(c);
+    if let Err(e) = model.validate() {
+        model.contacts.pop();
+        return Err(e);
+    }
+    Ok(())
+}
+
+/// Adds a 3D friction contact (method.md §4). `dofs_a[3]`: the global DoFs (x, y, z) of node
+/// `a`; `dofs_b[3]`: those of node `b`, or NULL for a contact with ground. `frame[9]`:
+/// row-major rotation whose rows are the unit vectors `t1`, `t2`, `n` (normal pointing into
+/// the contact), so the local displacement is `w = R (x_a - x_b)`. Tangential stiffnesses
+/// `kt1`, `kt2`, normal stiffness `kn`, friction coefficient `mu` (all `>= 0`), normal preload
+/// `n0` (`N = max(0, n0 + kn v)`). The new contact's index is the previous contact count.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_contact_3d(
+    model: *mut jprom_model,
+    dofs_a: *const usize,
+    dofs_b: *const usize,
+    frame: *const f64,
+    kt1: f64,
+    kt2: f64,
+    kn: f64,
+    mu: f64,
+    n0: f64,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let a = slice_arg(dofs_a, 3, "dofs_a")?;
+        let b = if dofs_b.is_null() { None } else { Some(slice_arg(dofs_b, 3, "dofs_b")?.to_vec()) };
+        let f = slice_arg(frame, 9, "frame")?;
+        let frame = [[f[0], f[1], f[2]], [f[3], f[4], f[5]], [f[6], f[7], f[8]]];
+        let c = Contact { dofs_a: a.to_vec(), dofs_b: b, frame, law: ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } };
+        push_contact(&mut m.model, c)?;
+        Ok(())
+    })
+}
+
+/// Adds a 1D Jenkins element (spring `kt` in series with a slider of limit
+/// `mu * normal_load`, constant normal load) on DoF `dof_a`, against ground if `dof_b` is
+/// NULL, else relative to DoF `*dof_b`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_jenkins(
+    model: *mut jprom_model,
+    dof_a: usize,
+    dof_b: *const usize,
+    kt: f64,
+    mu: f64,
+    normal_load: f64,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let b = if dof_b.is_null() { None } else { Some(*dof_b) };
+        push_contact(&mut m.model, Contact::jenkins(dof_a, b, kt, mu, normal_load))?;
+        Ok(())
+    })
+}
+
+/// DoFs whose response is reported by solutions and sweeps (0-based, `n_outputs` entries;
+/// NULL allowed when `n_outputs == 0`). Replaces any previous list.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_output_dofs(model: *mut jprom_model, dofs: *const usize, n_outputs: usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let d = slice_arg(dofs, n_outputs, "dofs")?.to_vec();
+        replace_validated(&mut m.model, |m| &mut m.output_dofs, d)?;
+        Ok(())
+    })
+}
+
+/// Re-runs every model check (sizes, symmetry, finite values, contacts, DoF indices).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_validate(model: *const jprom_model) -> jprom_status {
+    ffi_guard!({
+        handle::get(model, "model")?.model.validate()?;
+        Ok(())
+    })
+}
+
+/// Saves the model as versioned JSON at `path` (NUL-terminated UTF-8).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_save_json(model: *const jprom_model, path: *const c_char) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        m.model.save_json(&path_arg(path, "path")?)?;
+        Ok(())
+    })
+}
+
+/// Loads and validates a model saved by `jprom_model_save_json`: `JPROM_IO` for a missing
+/// file, a directory or a file of another kind (it says which), `JPROM_PARSE` with the line for
+/// malformed JSON or an unknown key, the model checks' status otherwise. `*out` as for
+/// `jprom_model_new`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_load_json(path: *const c_char, out: *mut *mut jprom_model) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let model = Model::load_json(&path_arg(path, "path")?)?;
+        *out = jprom_model::wrap(model);
+        Ok(())
+    })
+}

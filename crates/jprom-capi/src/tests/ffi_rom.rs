@@ -1,0 +1,392 @@
+//! JP reduction through the C API: a predicted basis, an NLR/FR sweep, the self-correcting
+//! sweep with its corrections, the basis of a full-order solution and the actual error give the
+//! same numbers as the Rust API, with the error predictor per point.
+
+use faer::Mat;
+use jprom::condensation::CondensedSystem;
+use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
+use crate::*;
+use jprom::aft::AftPlan;
+use jprom::rom::error_metric::actual_error;
+use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
+use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
+use jprom::model::{ContactCoordinates, Damping, Excitation, HarmonicForce, Model};
+use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, NlrRom, RomKind};
+use std::ffi::{c_int, c_void};
+use std::ops::ControlFlow;
+
+/// A 4-node chain (12 DoFs) on springs, two ground contacts with preload: the same model for
+/// the C and the Rust side.
+fn parts() -> (usize, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = 12;
+    let mut k = vec![0.0; n * n];
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        m[i + i * n] = 1.0;
+        k[i + i * n] += 2.0e4;
+        if i + 3 < n {
+            k[i + i * n] += 1.0e4;
+            k[(i + 3) + (i + 3) * n] += 1.0e4;
+            k[i + (i + 3) * n] -= 1.0e4;
+            k[(i + 3) + i * n] -= 1.0e4;
+        }
+    }
+    let f0: Vec<f64> = (0..n).map(|i| if i % 3 == 2 { -5.0 } else { 0.0 }).collect();
+    let f1: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 1.0 } else { 0.0 }).collect();
+    (n, m, k, f0, f1)
+}
+
+const LAW: (f64, f64, f64, f64, f64) = (2.0e4, 2.0e4, 3.0e4, 0.3, 10.0);
+
+fn rust_model() -> Model {
+    let (n, m, k, f0, f1) = parts();
+    let law = ContactLaw::Friction3D { kt1: LAW.0, kt2: LAW.1, kn: LAW.2, mu: LAW.3, n0: LAW.4 };
+    let contacts = vec![Contact::ground_3d([6, 7, 8], IDENTITY_FRAME, law.clone()), Contact::ground_3d([9, 10, 11], IDENTITY_FRAME, law)];
+    let exc = Excitation { static_force: f0, harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+    Model::new(Mat::from_fn(n, n, |i, j| m[i + j * n]), Mat::from_fn(n, n, |i, j| k[i + j * n]), Damping { mass_coeff: 0.0, stiffness_coeff: 2e-5 }, exc, contacts, vec![0, 9]).unwrap()
+}
+
+unsafe fn c_model() -> *mut jprom_model {
+    let (n, m, k, f0, f1) = parts();
+    let mut model = std::ptr::null_mut();
+    assert_eq!(jprom_model_new(n, m.as_ptr(), k.as_ptr(), &mut model), jprom_status::JPROM_OK);
+    let frame = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    for a in [[6usize, 7, 8], [9, 10, 11]] {
+        assert_eq!(jprom_model_add_contact_3d(model, a.as_ptr(), std::ptr::null(), frame.as_ptr(), LAW.0, LAW.1, LAW.2, LAW.3, LAW.4), jprom_status::JPROM_OK);
+    }
+    assert_eq!(jprom_model_set_static_force(model, f0.as_ptr(), n), jprom_status::JPROM_OK);
+    let zeros = vec![0.0; n];
+    assert_eq!(jprom_model_set_harmonic_force(model, 1, f1.as_ptr(), zeros.as_ptr(), n), jprom_status::JPROM_OK);
+    assert_eq!(jprom_model_set_rayleigh_damping(model, 0.0, 2e-5), jprom_status::JPROM_OK);
+    let outs = [0usize, 9];
+    assert_eq!(jprom_model_set_output_dofs(model, outs.as_ptr(), 2), jprom_status::JPROM_OK);
+    model
+}
+
+#[test]
+fn rom_sweep_through_c_matches_the_rust_api() {
+    let band = (80.0, 200.0);
+    // Rust
+    let model = rust_model();
+    let hopts = HbmOptions::with_harmonics(1);
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let mut p = PredictionOptions::new(band);
+    p.gamma = 1e3;
+    p.n_samples = 30;
+    let (basis, _) = predict_basis(&coords, &p).unwrap();
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let rom = NlrRom::new(&cond, &basis).unwrap();
+    let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
+    unsafe {
+        let m = c_model();
+        let mut opts = std::mem::zeroed();
+        let mut sopts = std::mem::zeroed();
+        jprom_hbm_options_default(&mut opts);
+        jprom_sweep_options_default(&mut sopts);
+        sopts.omega_start = band.0;
+        sopts.omega_end = band.1;
+        let mut b = std::ptr::null_mut();
+        assert_eq!(jprom_basis_predict(m, &opts, band.0, band.1, 1e3, 30, &mut b), jprom_status::JPROM_OK);
+        let mut sizes = [0usize; 2];
+        let mut hh = 0;
+        assert_eq!(jprom_basis_sizes(b, sizes.as_mut_ptr(), 2, &mut hh), jprom_status::JPROM_OK);
+        assert_eq!(sizes.to_vec(), basis.sizes);
+        assert_eq!(jprom_basis_sizes(b, sizes.as_mut_ptr(), 1, &mut hh), jprom_status::JPROM_BAD_SIZE);
+        let mut s = std::ptr::null_mut();
+        assert_eq!(jprom_rom_sweep(m, b, 7, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_OK);
+        let mut n = 0;
+        jprom_sweep_n_points(s, &mut n);
+        assert_eq!(n, expect.points.len());
+        for (i, p) in expect.points.iter().enumerate() {
+            let (mut w, mut a, mut e) = (0.0, 0.0, 0.0);
+            jprom_sweep_point_omega(s, i, &mut w);
+            jprom_sweep_point_amplitude(s, i, 1, 1, &mut a);
+            assert_eq!(jprom_sweep_point_predicted_error(s, i, 1, &mut e), jprom_status::JPROM_OK);
+            assert_eq!(w, p.omega);
+            assert_eq!(a, p.output_amplitude(1, 1));
+            assert!(e.is_finite() && e >= 0.0);
+        }
+        jprom_sweep_free(s);
+        // a full-order sweep has no predicted error
+        let mut fo = std::ptr::null_mut();
+        assert_eq!(jprom_sweep(m, &opts, &sopts, None, std::ptr::null_mut(), &mut fo), jprom_status::JPROM_OK);
+        let mut e = 0.0;
+        assert_eq!(jprom_sweep_point_predicted_error(fo, 0, 1, &mut e), jprom_status::JPROM_INVALID_VALUE);
+        // FR runs too
+        let mut fr = std::ptr::null_mut();
+        assert_eq!(jprom_rom_sweep(m, b, JPROM_ROM_FR, &opts, &sopts, None, std::ptr::null_mut(), &mut fr), jprom_status::JPROM_OK);
+        jprom_sweep_free(fr);
+        jprom_sweep_free(fo);
+        jprom_basis_free(b);
+        assert_eq!(jprom_basis_free(b), jprom_status::JPROM_INVALID_HANDLE);
+        jprom_model_free(m);
+    }
+}
+
+unsafe fn ok(s: jprom_status) {
+    assert_eq!(s, jprom_status::JPROM_OK, "{}", std::ffi::CStr::from_ptr(jprom_last_error_message()).to_string_lossy());
+}
+
+unsafe fn c_options(band: (f64, f64)) -> (jprom_hbm_options, jprom_sweep_options, jprom_jp_options) {
+    let mut opts = std::mem::zeroed();
+    let mut sopts = std::mem::zeroed();
+    let mut jo = std::mem::zeroed();
+    ok(jprom_hbm_options_default(&mut opts));
+    ok(jprom_sweep_options_default(&mut sopts));
+    ok(jprom_jp_options_default(&mut jo));
+    sopts.omega_start = band.0;
+    sopts.omega_end = band.1;
+    (opts, sopts, jo)
+}
+
+unsafe fn basis_sizes(b: *const jprom_basis) -> Vec<usize> {
+    let mut hh = 0;
+    let mut sizes = vec![0usize; 16];
+    ok(jprom_basis_sizes(b, sizes.as_mut_ptr(), sizes.len(), &mut hh));
+    sizes.truncate(hh + 1);
+    sizes
+}
+
+/// Per point: (omega, |X1| at output 1, e*_1).
+unsafe fn c_rows(s: *const jprom_sweep_result) -> Vec<(f64, f64, f64)> {
+    let mut n = 0;
+    ok(jprom_sweep_n_points(s, &mut n));
+    (0..n)
+        .map(|i| {
+            let (mut w, mut a, mut e) = (0.0, 0.0, 0.0);
+            ok(jprom_sweep_point_omega(s, i, &mut w));
+            ok(jprom_sweep_point_amplitude(s, i, 1, 1, &mut a));
+            ok(jprom_sweep_point_predicted_error(s, i, 1, &mut e));
+            (w, a, e)
+        })
+        .collect()
+}
+
+#[test]
+fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
+    let band = (80.0, 200.0);
+    let model = rust_model();
+    let coords = ContactCoordinates::new(&model, 1).unwrap();
+    let mut p = PredictionOptions::new(band);
+    p.n_samples = 30;
+    p.modes.extra_outside = 2;
+    let (basis, _) = predict_basis(&coords, &p).unwrap();
+    unsafe {
+        let (opts, _, mut jo) = c_options(band);
+        let a = AdaptiveOptions::default();
+        let d = PredictionOptions::new(band);
+        assert_eq!(jo.struct_size, std::mem::size_of::<jprom_jp_options>());
+        assert_eq!((jo.gamma, jo.n_samples, jo.extra_outside, jo.static_correction != 0), (d.gamma, d.n_samples, d.modes.extra_outside, d.modes.static_correction));
+        assert_eq!((jo.threshold, jo.max_corrections, jo.gamma_growth, jo.max_gamma), (a.threshold, a.max_corrections, a.gamma_growth, a.max_gamma));
+        let m = c_model();
+        jo.n_samples = 30;
+        jo.extra_outside = 2;
+        let mut b = std::ptr::null_mut();
+        ok(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b));
+        assert_eq!(basis_sizes(b), basis.sizes);
+        // with the defaults otherwise (extra_outside 2 is the default), the same basis as
+        // jprom_basis_predict
+        let (mut b1, mut b2) = (std::ptr::null_mut(), std::ptr::null_mut());
+        ok(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b1));
+        ok(jprom_basis_predict(m, &opts, band.0, band.1, jo.gamma, jo.n_samples, &mut b2));
+        assert_eq!(basis_sizes(b1), basis_sizes(b2));
+        jo.struct_size -= 1;
+        let mut b3 = std::ptr::null_mut();
+        assert_eq!(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b3), jprom_status::JPROM_BAD_SIZE);
+        assert!(b3.is_null());
+        for b in [b, b1, b2] {
+            ok(jprom_basis_free(b));
+        }
+        ok(jprom_model_free(m));
+    }
+}
+
+#[test]
+fn adaptive_sweep_through_c_matches_the_rust_api() {
+    let band = (80.0, 200.0);
+    let model = rust_model();
+    let hopts = HbmOptions::with_harmonics(1);
+    let mut pred = PredictionOptions::new(band);
+    pred.n_samples = 30;
+    // the predicted basis is good to ~1e-9 on this model: a threshold below that forces both
+    // kinds of correction (regenerations until one does not halve the error, then a larger
+    // gamma)
+    let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 3, ..AdaptiveOptions::default() };
+    let mut per_pass = std::collections::BTreeMap::<usize, usize>::new();
+    let expect = adaptive_sweep_with_progress(&model, &pred, &SweepOptions::band(band.0, band.1), &hopts, &aopts, &mut |pass, _| {
+        *per_pass.entry(pass).or_default() += 1;
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert_eq!(expect.corrections.len(), 3);
+    assert!(matches!(expect.corrections[0].kind, CorrectionKind::Regenerated { .. }), "{:?}", expect.corrections);
+    assert!(matches!(expect.corrections[2].kind, CorrectionKind::GammaIncreased { .. }), "{:?}", expect.corrections);
+    unsafe extern "C" fn count(user: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
+        let v = &mut *(user as *mut Vec<usize>);
+        if index == 0 {
+            v.push(0);
+        }
+        *v.last_mut().unwrap() += 1;
+        0
+    }
+    unsafe {
+        let m = c_model();
+        let (opts, sopts, mut jo) = c_options(band);
+        jo.n_samples = 30;
+        jo.threshold = 1e-12;
+        jo.max_corrections = 3;
+        let mut counts: Vec<usize> = Vec::new();
+        let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
+        ok(jprom_rom_sweep_adaptive(m, JPROM_ROM_NLR, &opts, &sopts, &jo, Some(count), &mut counts as *mut _ as *mut c_void, &mut s, &mut b));
+        assert_eq!(counts, per_pass.values().copied().collect::<Vec<_>>(), "points reported per pass");
+        let rows = c_rows(s);
+        assert_eq!(rows.len(), expect.sweep.points.len());
+        for ((w, a, e), (p, es)) in rows.iter().zip(expect.sweep.points.iter().zip(&expect.predicted_errors)) {
+            assert_eq!((*w, *a, *e), (p.omega, p.output_amplitude(1, 1), es[1]));
+        }
+        assert_eq!(basis_sizes(b), expect.basis.sizes);
+        let mut nc = 99;
+        ok(jprom_sweep_n_corrections(s, &mut nc));
+        assert_eq!(nc, expect.corrections.len());
+        for (i, c) in expect.corrections.iter().enumerate() {
+            let (mut kind, mut value, mut before, mut after) = (-1, 0.0, 0.0, 0.0);
+            let mut sizes = [0usize; 2];
+            ok(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 2));
+            let want = match c.kind {
+                CorrectionKind::Regenerated { from_omega } => (JPROM_CORRECTION_REGENERATED, from_omega),
+                CorrectionKind::GammaIncreased { gamma } => (JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+            };
+            assert_eq!((kind, value, before, after, sizes.to_vec()), (want.0, want.1, c.worst_error_before, c.worst_error_after, c.sizes.clone()));
+            // every pointer may be NULL
+            ok(jprom_sweep_correction(s, i, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0));
+            assert_eq!(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
+        }
+        assert_eq!(jprom_sweep_correction(s, nc, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0), jprom_status::JPROM_INVALID_VALUE);
+        // the final basis is usable: a plain ROM sweep on it gives the final pass again
+        let mut again = std::ptr::null_mut();
+        ok(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut again));
+        assert_eq!(c_rows(again), rows);
+        let mut zero = 99;
+        ok(jprom_sweep_n_corrections(again, &mut zero));
+        assert_eq!(zero, 0);
+        ok(jprom_sweep_free(again));
+        ok(jprom_sweep_free(s));
+        ok(jprom_basis_free(b));
+
+        // the defaults, FR, no basis wanted
+        let (_, _, jo) = c_options(band);
+        let mut fr = std::ptr::null_mut();
+        ok(jprom_rom_sweep_adaptive(m, JPROM_ROM_FR, &opts, &sopts, &jo, None, std::ptr::null_mut(), &mut fr, std::ptr::null_mut()));
+        let pred = PredictionOptions::new(band);
+        let fr_expect = adaptive_sweep(&model, &pred, &SweepOptions::band(band.0, band.1), &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..AdaptiveOptions::default() }).unwrap();
+        let fr_rows = c_rows(fr);
+        assert_eq!(fr_rows.len(), fr_expect.sweep.points.len());
+        assert_eq!(fr_rows.last().unwrap().2, fr_expect.predicted_errors.last().unwrap()[1]);
+        ok(jprom_sweep_free(fr));
+
+        // a callback that stops: CANCELLED, the points so far and the basis are handed out
+        unsafe extern "C" fn stop_at_third(_: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
+            (index >= 2) as c_int
+        }
+        let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
+        assert_eq!(jprom_rom_sweep_adaptive(m, JPROM_ROM_NLR, &opts, &sopts, &jo, Some(stop_at_third), std::ptr::null_mut(), &mut s, &mut b), jprom_status::JPROM_CANCELLED);
+        let mut n = 0;
+        ok(jprom_sweep_n_points(s, &mut n));
+        assert_eq!(n, 3);
+        ok(jprom_sweep_n_corrections(s, &mut n));
+        assert_eq!(n, 0);
+        assert!(!b.is_null());
+        ok(jprom_sweep_free(s));
+        ok(jprom_basis_free(b));
+        ok(jprom_model_free(m));
+    }
+}
+
+#[test]
+fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
+    let band = (80.0, 200.0);
+    let omega = 120.0;
+    let hopts = HbmOptions::with_harmonics(1);
+    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    unsafe {
+        let m = c_model();
+        // The Rust side works on the model the C API holds (saved and reloaded bit for bit).
+        let mpath = std::env::temp_dir().join(format!("jprom_ffi_rom_model_{}.json", std::process::id()));
+        let cmpath = std::ffi::CString::new(mpath.to_str().unwrap()).unwrap();
+        ok(jprom_model_save_json(m, cmpath.as_ptr()));
+        let model: Model = jprom::io::load_json("model", &mpath).unwrap();
+        let _ = std::fs::remove_file(&mpath);
+        let coords = ContactCoordinates::new(&model, 1).unwrap();
+        let cond = CondensedSystem::new(&model, &hopts).unwrap();
+        let fo = solve_point(&cond, omega, None, &hopts).unwrap();
+        let (opts, sopts, mut jo) = c_options(band);
+        jo.extra_outside = 2;
+        // a basis of one Jacobian: with the static correction, as ModeOptions::in_band has it
+        // (the prediction's default, which jprom_jp_options_default copies, has none)
+        jo.static_correction = 1;
+        let mut fs = std::ptr::null_mut();
+        ok(jprom_solve_point(m, omega, &opts, &mut fs));
+        // The C solve is the Rust one to round-off; the basis is built from the C solution on
+        // both sides, since a stuck pair's eigenvectors turn with the last bit of K̂.
+        let path = std::env::temp_dir().join(format!("jprom_ffi_rom_fo_{}.json", std::process::id()));
+        let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        ok(jprom_solution_save_json(fs, cpath.as_ptr()));
+        let fo_c: jprom::hbm::PointSolution = jprom::io::load_json("solution", &path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        let d = fo_c.z.iter().zip(&fo.z).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let zmax = fo.z.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        assert!(d <= 1e-10 * zmax, "C and Rust full-order solutions differ by {d:e}");
+        let mut modes = ModeOptions::in_band(band);
+        modes.extra_outside = 2;
+        let basis = JpBasis::from_solution(&coords, &fo_c, &plan, &BasisOptions { modes, gamma: 1e3 }).unwrap();
+        let rom = NlrRom::new(&cond, &basis).unwrap();
+        let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
+        let mut b = std::ptr::null_mut();
+        ok(jprom_basis_from_solution(m, fs, &opts, &jo, band.0, band.1, &mut b));
+        assert_eq!(basis_sizes(b), basis.sizes);
+        let mut s = std::ptr::null_mut();
+        ok(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut s));
+        let rows = c_rows(s);
+        assert_eq!(rows.len(), expect.points.len());
+        for ((w, a, _), p) in rows.iter().zip(&expect.points) {
+            assert_eq!((*w, *a), (p.omega, p.output_amplitude(1, 1)));
+        }
+        // the actual error at the first reduced point against a full-order solve there
+        let p0 = &expect.points[0];
+        let fo0 = solve_point(&cond, p0.omega, None, &hopts).unwrap();
+        let want = actual_error(&rom, &plan, p0.omega, &p0.z, &fo0).unwrap();
+        let mut rs = std::ptr::null_mut();
+        ok(jprom_sweep_point(s, 0, &mut rs));
+        let mut fs0 = std::ptr::null_mut();
+        ok(jprom_solve_point(m, p0.omega, &opts, &mut fs0));
+        let mut e = [f64::NAN; 2];
+        ok(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs0, e.as_mut_ptr(), 2));
+        assert_eq!(e.to_vec(), want);
+        // a full-order solution on all DoFs gives the same contact forces to round-off (the
+        // basis is exact here: e ~ 1e-15)
+        let mut full_opts = opts;
+        full_opts.condensed = 0;
+        let mut ff0 = std::ptr::null_mut();
+        ok(jprom_solve_point(m, p0.omega, &full_opts, &mut ff0));
+        let mut e_full = [f64::NAN; 2];
+        ok(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, ff0, e_full.as_mut_ptr(), 2));
+        assert!(e_full.iter().zip(&e).all(|(a, b)| (a - b).abs() <= 1e-9), "{e_full:?} vs {e:?}");
+        // misuse is refused, and the buffer is left alone
+        let mut e_bad = [-1.0; 2];
+        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, fs0, rs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs0, e_bad.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
+        assert_eq!(jprom_rom_actual_error(m, b, 5, &opts, rs, fs0, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(e_bad, [-1.0; 2]);
+        let mut b_bad = std::ptr::null_mut();
+        assert_eq!(jprom_basis_from_solution(m, rs, &opts, &jo, band.0, band.1, &mut b_bad), jprom_status::JPROM_INVALID_VALUE);
+        assert!(b_bad.is_null());
+        for p in [rs, fs0, ff0, fs] {
+            ok(jprom_solution_free(p));
+        }
+        ok(jprom_sweep_free(s));
+        ok(jprom_basis_free(b));
+        ok(jprom_model_free(m));
+    }
+}

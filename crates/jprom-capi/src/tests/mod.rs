@@ -1,0 +1,7 @@
+//! The C API driven from Rust (the C, C++ and Fortran programs are in `tests/`): files,
+//! reduced models, threads, hostile input.
+
+mod ffi_files;
+mod ffi_hardening;
+mod ffi_rom;
+mod ffi_threads;

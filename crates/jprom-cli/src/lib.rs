@@ -1,0 +1,6 @@
+//! The `jprom` program's library: study files ([`study`]), running a study and writing its
+//! CSV, JSON and tables ([`run`]), plots ([`plots`]). The numerics are the `jprom` crate's.
+pub mod locate;
+pub mod plots;
+pub mod run;
+pub mod study;

@@ -1,0 +1,114 @@
+//! `jprom`: runs a study described in a TOML or JSON file, or the built-in blade demo.
+//!
+//! ```text
+//! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
+//! jprom run   STUDY [--out DIR]    a study file (see examples/demo_study.toml)
+//! jprom check STUDY                validate a study file only
+//! ```
+//!
+//! Exit status: 0 when everything asked for was computed and every output file (CSV, JSON,
+//! SVG) and the printed summary were written in full; 1 when the run failed (the model, a
+//! solver, or writing any output); 2 for a bad command line or an invalid study file; 3 when a
+//! sweep did not cover its band or a solver failed at some level (everything else is written;
+//! `--keep-partial` or `output.keep_partial = true` makes that a success).
+
+use jprom_cli::run::{run_study, summary_table};
+use jprom_cli::study::Study;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+const USAGE: &str = "usage:
+  jprom demo  [--out DIR]        run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
+  jprom run   STUDY [--out DIR] [--keep-partial]
+                                 run a study file (.toml or .json)
+  jprom check STUDY              validate a study file and print it with its defaults
+  jprom --help
+exit status: 0 done (every output written), 1 the run failed (model, solver or an output
+that could not be written), 2 bad command line or invalid study, 3 a sweep did not cover its
+band (results kept; --keep-partial makes it 0)";
+
+/// The demo's study (also in examples/demo_study.toml).
+pub const DEMO_STUDY: &str = include_str!("../demo_study.toml");
+
+/// Why `jprom` stops: the exit status and the message.
+enum Failure {
+    /// Bad command line or study file (exit 2).
+    Usage(String),
+    /// The run failed, including any output that could not be written (exit 1).
+    Run(String),
+    /// Everything was written, but these sweeps did not cover their band (exit 3).
+    Incomplete(Vec<String>),
+}
+
+fn out_dir(args: &[String], default: &str) -> Result<PathBuf, Failure> {
+    match args.iter().position(|a| a == "--out") {
+        Some(i) => args.get(i + 1).map(PathBuf::from).ok_or_else(|| Failure::Usage("--out needs a directory".to_string())),
+        None => Ok(PathBuf::from(default)),
+    }
+}
+
+fn study_from(path: &str) -> Result<Study, Failure> {
+    Study::from_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))
+}
+
+/// Writes `text` to stdout and flushes it; a closed or full stdout is a failed run.
+fn print_out(text: &str) -> Result<(), Failure> {
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes()).and_then(|_| out.flush()).map_err(|e| Failure::Run(format!("cannot write to standard output: {e}")))
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let keep_partial = args.iter().any(|a| a == "--keep-partial");
+    let result = match args.first().map(String::as_str) {
+        None | Some("--help") | Some("-h") | Some("help") => print_out(&format!("{USAGE}\n")),
+        Some("demo") => out_dir(&args, "jprom-demo").and_then(|dir| {
+            let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
+            run(&study, &dir, keep_partial)
+        }),
+        Some("run") => match args.get(1) {
+            Some(path) if path != "--out" => {
+                study_from(path).and_then(|study| out_dir(&args, &study.output.dir.display().to_string()).and_then(|dir| run(&study, &dir, keep_partial)))
+            }
+            _ => Err(Failure::Usage(format!("run needs a study file\n{USAGE}"))),
+        },
+        Some("check") => match args.get(1) {
+            Some(path) => study_from(path).and_then(|s| {
+                let text = toml::to_string_pretty(&s).map_err(|e| Failure::Run(format!("cannot print the study: {e}")))?;
+                print_out(&format!("{path}: valid\n{text}\n"))
+            }),
+            None => Err(Failure::Usage(format!("check needs a study file\n{USAGE}"))),
+        },
+        Some(other) => Err(Failure::Usage(format!("unknown command '{other}'\n{USAGE}"))),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Usage(message)) => {
+            eprintln!("jprom: {message}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Run(message)) => {
+            eprintln!("jprom: {message}");
+            ExitCode::from(1)
+        }
+        Err(Failure::Incomplete(lines)) => {
+            eprintln!("jprom: {} sweep(s) did not cover the band (results kept; --keep-partial accepts them):", lines.len());
+            for l in lines {
+                eprintln!("  {l}");
+            }
+            ExitCode::from(3)
+        }
+    }
+}
+
+fn run(study: &Study, dir: &std::path::Path, keep_partial: bool) -> Result<(), Failure> {
+    let t = std::time::Instant::now();
+    let summary = run_study(study, dir, std::io::stderr().is_terminal()).map_err(|e| Failure::Run(e.to_string()))?;
+    print_out(&format!("{}results in {} ({:.1} s)\n", summary_table(&summary), dir.display(), t.elapsed().as_secs_f64()))?;
+    if summary.incomplete.is_empty() || keep_partial || study.output.keep_partial {
+        Ok(())
+    } else {
+        Err(Failure::Incomplete(summary.incomplete))
+    }
+}

@@ -1,0 +1,796 @@
+//! Runs a [`Study`]: builds the model (built-in blade, or Matrix Market `M`, `K` with a node/DoF
+//! map, then Craig-Bampton), sweeps the band with the condensed full-order solver and the FR
+//! and NLR reduced models at each excitation level, evaluates the error predictor, optionally
+//! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
+
+use super::plots::{write_plot, Legend, PlotSpec, Series};
+use super::study::{ModelSpec, Study};
+use jprom::aft::AftPlan;
+use jprom::fe::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
+use jprom::contact::Contact;
+use jprom::io::dof_map::DofMap;
+use jprom::io::matrix_market::read_symmetric_matrix_market;
+use jprom::condensation::CondensedSystem;
+use jprom::contact::{ContactLaw, ContactState};
+use jprom::error::{JpError, Result};
+use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
+use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
+use jprom::level::stuck_limit;
+use jprom::jp::prediction::PredictionOptions;
+use jprom::jp::{predict_basis, JpBasis};
+use jprom::model::{ContactCoordinates, Damping, Model};
+use jprom::rom::{adaptive_sweep, reduced_model, AdaptiveOptions, RomKind};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::io::Write;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::Instant;
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// One solver at one excitation level.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverRow {
+    pub level: f64,
+    pub solver: String,
+    /// Unknowns per harmonic (`n_0, n_1, ...`).
+    pub sizes: Vec<usize>,
+    pub points: usize,
+    /// Seconds for the sweep (for ROMs: basis prediction, reduced sweeps and corrections).
+    pub sweep_seconds: f64,
+    pub basis_seconds: f64,
+    /// Basis corrections made by the self-correcting sweep (ROMs).
+    pub corrections: usize,
+    /// Resonance (largest `X1` at the first output) frequency and amplitude.
+    pub peak_hz: f64,
+    pub peak_x1: f64,
+    pub peak_x0: f64,
+    /// Relative errors against the full order at the full-order resonance (ROMs only).
+    pub error_x1: Option<f64>,
+    pub error_x0: Option<f64>,
+    /// Predicted `e*_1` and actual `e_1` there (ROMs only).
+    pub predicted_e1: Option<f64>,
+    pub actual_e1: Option<f64>,
+    /// Largest error of the dissipated energy per contact node there, relative to the largest
+    /// energy per contact node met anywhere in the study (ROMs only; `None` when no contact
+    /// dissipates anywhere).
+    pub energy_error: Option<f64>,
+    /// Why the sweep ended (`reached_end`, `stalled`, `point_cap`, `left_band`, `cancelled`),
+    /// and whether it covered the band.
+    pub end: String,
+    pub complete: bool,
+    /// What the reader of this row must know: an incomplete sweep (with where and why), a peak
+    /// on the band's edge, a level at which every contact sticks, errors taken against an
+    /// incomplete full-order sweep.
+    pub warnings: Vec<String>,
+    /// The largest error the self-correcting sweep judged its basis by, `max(e*_1, e_lin_1 at
+    /// its checks)` over the final pass (ROMs only).
+    pub worst_error: Option<f64>,
+}
+
+/// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
+/// full-order resonance.
+#[derive(Clone, Debug, Serialize)]
+pub struct BasisStudyRow {
+    pub level: f64,
+    pub solver: String,
+    pub gamma: f64,
+    /// Reduced unknowns per harmonic `n_0, n_1, ...` of the ROM (for FR on a band-condensed
+    /// basis about twice the JP basis' `n_1`, see [`FrRom::new`]).
+    pub sizes: Vec<usize>,
+    /// Relative errors of `X1`, `X0` at the first output (`None`: the ROM did not converge).
+    pub error_x1: Option<f64>,
+    pub error_x0: Option<f64>,
+    /// Predicted `e*_1` and actual `e_1`.
+    pub predicted_e1: Option<f64>,
+    pub actual_e1: Option<f64>,
+}
+
+/// The basis of `basis` conditioned with a smaller `gamma`: (38) keeps the left singular
+/// vectors whose singular value is at least `s_max / gamma`, and `basis` holds the leading
+/// ones of the same SVD with all singular values, so this is a column truncation, identical to
+/// predicting the basis again with `gamma`.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] if `gamma` exceeds the basis' own.
+pub fn reconditioned(basis: &JpBasis, gamma: f64) -> Result<JpBasis> {
+    if !(gamma >= 1.0 && gamma <= basis.gamma) {
+        return Err(JpError::invalid("gamma", format!("must be in [1, {}] to re-condition this basis, got {gamma}", basis.gamma)));
+    }
+    let mut out = basis.clone();
+    out.gamma = gamma;
+    for (h, (phi, sv)) in basis.phi.iter().zip(&basis.singular_values).enumerate() {
+        let s_max = sv.first().copied().unwrap_or(0.0);
+        let keep = if s_max > 0.0 { sv.iter().take_while(|&&x| x >= s_max / gamma).count().min(phi.ncols()) } else { 0 };
+        out.phi[h] = phi.as_ref().subcols(0, keep).to_owned();
+        out.sizes[h] = keep;
+    }
+    Ok(out)
+}
+
+/// Error vs basis size at one level: one basis predicted with the largest `gamma` of
+/// `basis.gamma_study`, re-conditioned to each, and each ROM solved at the full-order
+/// resonance `fo` (from zero: no sweep). A ROM that does not converge gives a row without errors.
+#[allow(clippy::too_many_arguments)]
+fn gamma_study(
+    study: &Study,
+    coords: &ContactCoordinates,
+    condensed: &CondensedSystem,
+    popts: &PredictionOptions,
+    hopts: &HbmOptions,
+    plan: &AftPlan,
+    fo: &PointSolution,
+    level: f64,
+    kinds: &[(&str, RomKind)],
+) -> Result<Vec<BasisStudyRow>> {
+    let mut gammas = study.basis.gamma_study.clone();
+    gammas.sort_by(f64::total_cmp);
+    gammas.dedup();
+    let g_max = *gammas.last().expect("a gamma");
+    let (big, _) = predict_basis(coords, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
+    let mut out = Vec::new();
+    for &g in &gammas {
+        let basis = reconditioned(&big, g)?;
+        for &(name, kind) in kinds {
+            let rom = reduced_model(kind, coords, Some(condensed), &basis)?;
+            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
+            if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
+                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
+                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+                row.predicted_e1 = predicted_error(rom.as_ref(), plan, r.omega, &r.z)?.get(1).copied();
+                row.actual_e1 = actual_error(rom.as_ref(), plan, r.omega, &r.z, fo)?.get(1).copied();
+            }
+            out.push(row);
+        }
+    }
+    Ok(out)
+}
+
+/// What a study produced.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    pub model_dofs: usize,
+    pub contacts: usize,
+    pub stuck_resonance_hz: f64,
+    /// `alpha_ST = |f_E^0| / |f_E^1|` at which the stuck resonance just reaches the friction
+    /// limit ([`jprom::level`]); `None` when the contacts are closed by their preload alone.
+    pub alpha_st: Option<f64>,
+    /// `|f_E^1|` at the stuck limit (levels are relative to it).
+    pub stuck_limit_force: f64,
+    /// What the levels are relative to, in words ([`jprom::level::StuckLimit::describe`]).
+    pub level_reference: String,
+    /// The sweeps that did not cover the band, one line each (solver, level, why, where).
+    pub incomplete: Vec<String>,
+    pub build_seconds: f64,
+    pub rows: Vec<SolverRow>,
+    /// The error-vs-basis-size study (`basis.gamma_study`), empty if not asked for.
+    pub basis_study: Vec<BasisStudyRow>,
+    /// Seconds spent on it (all levels).
+    pub basis_study_seconds: f64,
+}
+
+fn progress(len: u64, what: &str, show: bool) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(len), if show { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
+    bar.set_style(ProgressStyle::with_template("{msg:28} [{bar:30}] {pos}/{len} {elapsed}").unwrap().progress_chars("=> "));
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Builds the study's model.
+///
+/// # Errors
+/// The blade builder's and Craig-Bampton's errors; for a Matrix Market model, as
+/// [`build_matrix_market_model`].
+pub fn build_model(study: &Study) -> Result<Model> {
+    match &study.model {
+        ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
+            let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
+            let fe = BuiltinBlade::build(&params)?;
+            let cb = fe.reduce(*cb_modes)?;
+            let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+            cb.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
+        }
+        ModelSpec::MatrixMarket { .. } => build_matrix_market_model(study),
+    }
+}
+
+/// Prefixes an error with the study key it came from (file reading).
+fn with_key(key: &str, e: JpError) -> JpError {
+    match e {
+        JpError::Io { path, reason } => JpError::Io { path, reason: format!("key '{key}': {reason}") },
+        JpError::Parse { path, line, reason } => JpError::Parse { path, line, reason: format!("key '{key}': {reason}") },
+        other => JpError::invalid(key, other.to_string()),
+    }
+}
+
+/// A Matrix Market study's model: reads `M`, `K` and the DoF map, places the contacts, loads
+/// and outputs on node ids, and reduces by Craig-Bampton keeping the contact nodes (in
+/// `[[model.contacts]]` order), then the loaded nodes, then the output nodes, plus
+/// `cb_modes` fixed-interface modes. Loads act on boundary DoFs only, so the reduced loads are
+/// exact without the constraint modes (which are not kept).
+///
+/// # Errors
+/// File errors name the key (`model.mass`, ...), unknown node ids name the key listing them
+/// (`model.contacts[0].nodes`, ...); Craig-Bampton's and [`Model::new`]'s errors.
+pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
+    let ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } = &study.model else {
+        return Err(JpError::invalid("model.kind", "not a matrix_market model"));
+    };
+    let m = read_symmetric_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
+    let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
+    let n = k.nrows();
+    if k.ncols() != n {
+        return Err(JpError::invalid("model.stiffness", format!("{}: not square ({} x {})", stiffness.display(), n, k.ncols())));
+    }
+    if m.nrows() != n || m.ncols() != n {
+        return Err(JpError::invalid("model.mass", format!("{}: {} x {}, but the stiffness is {n} x {n}", mass.display(), m.nrows(), m.ncols())));
+    }
+    let map = DofMap::load(dof_map).map_err(|e| with_key("model.dof_map", e))?;
+    if map.n_dof != n {
+        return Err(JpError::invalid("model.dof_map", format!("{}: n_dof {} but the matrices are {n} x {n}", dof_map.display(), map.n_dof)));
+    }
+    let node = |key: &str, id: i64| -> Result<[usize; 3]> {
+        map.nodes
+            .iter()
+            .find(|nd| nd.id == id)
+            .map(|nd| nd.dofs)
+            .ok_or_else(|| JpError::invalid(key, format!("no node with id {id} in the dof map {}", dof_map.display())))
+    };
+    // boundary nodes: contacts, then loaded, then output nodes (each once)
+    let mut boundary_nodes: Vec<i64> = Vec::new();
+    let mut contact_list = Vec::new();
+    for (i, set) in contacts.iter().enumerate() {
+        let key = format!("model.contacts[{i}].nodes");
+        let frame = set.frame().map_err(|r| JpError::invalid(format!("model.contacts[{i}].normal"), r))?;
+        let law = ContactLaw::Friction3D { kt1: set.kt1, kt2: set.kt2, kn: set.kn, mu: set.mu, n0: set.n0 };
+        for &id in &set.nodes {
+            node(&key, id)?;
+            if boundary_nodes.contains(&id) {
+                return Err(JpError::invalid(key, format!("node {id} is a contact node twice")));
+            }
+            contact_list.push((boundary_nodes.len(), frame, law.clone()));
+            boundary_nodes.push(id);
+        }
+    }
+    let loads = [("static", &study.forcing.static_loads), ("harmonic", &study.forcing.harmonic_loads)];
+    for (name, set) in loads {
+        for (i, l) in set.iter().enumerate() {
+            for &id in &l.nodes {
+                node(&format!("forcing.{name}[{i}].nodes"), id)?;
+                if !boundary_nodes.contains(&id) {
+                    boundary_nodes.push(id);
+                }
+            }
+        }
+    }
+    for &id in output_nodes {
+        node("model.output_nodes", id)?;
+        if !boundary_nodes.contains(&id) {
+            boundary_nodes.push(id);
+        }
+    }
+    let pos = |id: i64| boundary_nodes.iter().position(|&b| b == id).expect("a boundary node");
+    let mut boundary = Vec::with_capacity(3 * boundary_nodes.len());
+    for &id in &boundary_nodes {
+        boundary.extend(node("model", id)?);
+    }
+    let cb = CraigBampton::reduce(&k, &m, &boundary, CbOptions { n_modes: *cb_modes, keep_recovery: false })?;
+    let n_red = cb.n_reduced();
+    let mut forces = [vec![0.0; n_red], vec![0.0; n_red]];
+    for ((name, set), f) in loads.into_iter().zip(forces.iter_mut()) {
+        for (i, l) in set.iter().enumerate() {
+            let v = l.vector().map_err(|r| JpError::invalid(format!("forcing.{name}[{i}].direction"), r))?;
+            for &id in &l.nodes {
+                let p = pos(id);
+                for a in 0..3 {
+                    f[3 * p + a] += v[a];
+                }
+            }
+        }
+    }
+    let [static_force, harmonic_force] = forces;
+    let model = CbModel {
+        contacts: contact_list.into_iter().map(|(p, frame, law)| Contact::ground_3d([3 * p, 3 * p + 1, 3 * p + 2], frame, law)).collect(),
+        output_dofs: output_nodes.iter().flat_map(|&id| output_components.iter().map(move |c| (id, c.index()))).map(|(id, a)| 3 * pos(id) + a).collect(),
+        cb,
+        static_force,
+        harmonic_force,
+    };
+    let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+    model.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
+}
+
+/// The row of a solver that failed before giving a sweep (its error in the warnings).
+fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> SolverRow {
+    SolverRow {
+        level,
+        solver: solver.into(),
+        sizes,
+        points: 0,
+        sweep_seconds: 0.0,
+        basis_seconds: 0.0,
+        corrections: 0,
+        peak_hz: f64::NAN,
+        peak_x1: f64::NAN,
+        peak_x0: f64::NAN,
+        error_x1: None,
+        error_x0: None,
+        predicted_e1: None,
+        actual_e1: None,
+        energy_error: None,
+        end: "failed".into(),
+        complete: false,
+        warnings: vec![format!("failed: {e}")],
+        worst_error: None,
+    }
+}
+
+/// Warnings about a sweep and its peak `p`: the sweep did not cover the band (why and where),
+/// or the peak is the first or last point in frequency (the resonance may lie outside).
+fn sweep_warnings(res: &SweepResult, p: &PointSolution, band: (f64, f64)) -> Vec<String> {
+    let mut w = Vec::new();
+    if !res.reached_end() {
+        w.push(format!("the sweep did not cover the band: {}", res.failure.clone().unwrap_or_else(|| res.end.name().into())));
+    }
+    let (lo, hi) = (band.0.min(band.1), band.0.max(band.1));
+    let edge = 1e-9 * (hi - lo);
+    if (p.omega - lo).abs() <= edge || (p.omega - hi).abs() <= edge {
+        w.push(format!("the peak is on the band edge ({:.3} Hz): the resonance may lie outside the band", p.omega / TWO_PI));
+    }
+    w
+}
+
+fn peak(points: &[PointSolution]) -> Option<&PointSolution> {
+    points.iter().max_by(|a, b| a.output_amplitude(1, 0).total_cmp(&b.output_amplitude(1, 0)))
+}
+
+fn state_counts(p: &PointSolution) -> [usize; 3] {
+    let mut c = [0usize; 3];
+    for cy in &p.contact_cycles {
+        for s in &cy.states {
+            c[match s {
+                ContactState::Stick => 0,
+                ContactState::Slip => 1,
+                ContactState::Separated => 2,
+            }] += 1;
+        }
+    }
+    c
+}
+
+fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Result<()> {
+    jprom::io::write_file(path, |f| write_csv_rows(f, res, errors))
+}
+
+fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> std::io::Result<()> {
+    let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
+    let mut header = String::from("freq_hz,X0,X1");
+    for j in 1..n_out {
+        header.push_str(&format!(",X1_out{j}"));
+    }
+    header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy,sweep_end");
+    writeln!(f, "{header}")?;
+    for (i, p) in res.points.iter().enumerate() {
+        let mut line = format!("{:.6},{:.9e},{:.9e}", p.omega / TWO_PI, p.output_coeff(0, 0), p.output_amplitude(1, 0));
+        for j in 1..n_out {
+            line.push_str(&format!(",{:.9e}", p.output_amplitude(1, j)));
+        }
+        let (e0, e1) = match errors.and_then(|e| e.get(i)) {
+            Some(e) => (format!("{:.4e}", e[0]), format!("{:.4e}", e.get(1).copied().unwrap_or(f64::NAN))),
+            None => (String::new(), String::new()),
+        };
+        let c = state_counts(p);
+        line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
+        writeln!(f, "{line}")?;
+    }
+    Ok(())
+}
+
+fn write_basis_study_csv(path: &Path, rows: &[BasisStudyRow]) -> Result<()> {
+    jprom::io::write_file(path, |f| write_basis_study_rows(f, rows))
+}
+
+fn write_basis_study_rows(f: &mut dyn Write, rows: &[BasisStudyRow]) -> std::io::Result<()> {
+    writeln!(f, "level,solver,gamma,n_0,n_1,error_x1,error_x0,e_star_1,e_1")?;
+    let opt = |v: Option<f64>| v.map(|x| format!("{x:.4e}")).unwrap_or_default();
+    for r in rows {
+        let n = |h: usize| r.sizes.get(h).copied().unwrap_or(0);
+        writeln!(
+            f,
+            "{:e},{},{:e},{},{},{},{},{},{}",
+            r.level,
+            r.solver,
+            r.gamma,
+            n(0),
+            n(1),
+            opt(r.error_x1),
+            opt(r.error_x0),
+            opt(r.predicted_e1),
+            opt(r.actual_e1)
+        )?;
+    }
+    Ok(())
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// Runs the study and writes its results into `out_dir`; `show_progress` draws progress bars
+/// on stderr.
+///
+/// # Errors
+/// Model building, solver and I/O errors.
+pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<RunSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
+    let h = study.hbm.harmonics;
+    let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
+    let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
+    let t = Instant::now();
+    let mut model = build_model(study)?;
+    let coords = ContactCoordinates::new(&model, h)?;
+    let mut popts = PredictionOptions::new(band);
+    popts.harmonics = h;
+    popts.nt = Some(study.hbm.nt);
+    popts.gamma = study.basis.gamma;
+    popts.n_samples = study.basis.samples;
+    popts.modes.extra_outside = study.basis.extra_modes;
+    let omega_st = jprom::jp::prediction::stuck_mode(&coords, band)?.0;
+    let plan = AftPlan::new(h, study.hbm.nt)?;
+    let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
+    // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
+    let limit = stuck_limit(&coords, &static_z, omega_st)?;
+    let build_seconds = t.elapsed().as_secs_f64();
+    let mut rows = Vec::new();
+    // about `points` points where the response is smooth, more at resonances and folds
+    let sopts = study.band.sweep_options();
+    sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
+    // per level: the FO peak's energies per contact and each ROM's there, for the energy errors
+    let mut energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
+    let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    let mut basis_study: Vec<BasisStudyRow> = Vec::new();
+    let mut basis_study_seconds = 0.0;
+
+    for &level in &study.forcing.levels {
+        model.excitation.dynamic_scale = limit.scale_at(level)?;
+        let tag = format!("alpha_ST_x{level:e}");
+        // the transformed forces carry the excitation level: rebuild them for this level
+        let coords = ContactCoordinates::new(&model, h)?;
+        let mut series = Vec::new();
+        let mut energies = Vec::new();
+        let condensed = CondensedSystem::new(&model, &hopts)?;
+        // full order
+        let mut fo_peak: Option<PointSolution> = None;
+        let mut fo_warning: Option<String> = None;
+        if study.solvers.full_order {
+            let bar = progress(study.band.points as u64, &format!("FO sweep, level {level:e}"), show_progress);
+            let t = Instant::now();
+            let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
+                bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
+                ControlFlow::Continue(())
+            });
+            bar.finish_and_clear();
+            let res = match res {
+                Ok(r) => r,
+                Err(e) => {
+                    rows.push(failed_row(level, "FO (condensed)", condensed.layout().sizes.clone(), &e));
+                    fo_warning = Some("no full-order sweep to compare with".into());
+                    SweepResult::empty()
+                }
+            };
+            if res.points.is_empty() {
+                // the failure is in its row; the ROMs still run
+            } else {
+            let secs = t.elapsed().as_secs_f64();
+            write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
+            let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
+            series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
+            let warnings = sweep_warnings(&res, &p, band);
+            if !res.reached_end() {
+                fo_warning = Some(format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
+            }
+            energies_at_peak.push((rows.len(), p.contact_cycles.iter().map(|c| c.dissipated_energy).collect(), Vec::new()));
+            rows.push(SolverRow {
+                level,
+                solver: "FO (condensed)".into(),
+                sizes: condensed.layout().sizes.clone(),
+                points: res.points.len(),
+                sweep_seconds: secs,
+                basis_seconds: 0.0,
+                corrections: 0,
+                peak_hz: p.omega / TWO_PI,
+                peak_x1: p.output_amplitude(1, 0),
+                peak_x0: p.output_coeff(0, 0),
+                error_x1: None,
+                error_x0: None,
+                predicted_e1: None,
+                actual_e1: None,
+                energy_error: None,
+                end: res.end.name().into(),
+                complete: res.reached_end(),
+                warnings,
+                worst_error: None,
+            });
+            fo_peak = Some(p);
+            }
+        }
+        if !(study.solvers.fr || study.solvers.nlr) {
+            frf_series.push((level, series));
+            energy_series.push((level, energies));
+            continue;
+        }
+        let kinds: Vec<(&str, RomKind)> = [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)]
+            .into_iter()
+            .filter(|k| k.2)
+            .map(|k| (k.0, k.1))
+            .collect();
+        for &(name, kind) in &kinds {
+            // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
+            // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
+            let bar = progress(1, &format!("{name}: basis + sweep, level {level:e}"), show_progress);
+            let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
+            let t = Instant::now();
+            let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts);
+            bar.finish_and_clear();
+            let adaptive = match adaptive {
+                Ok(a) => a,
+                Err(e) => {
+                    rows.push(failed_row(level, name, Vec::new(), &e));
+                    continue;
+                }
+            };
+            let secs = t.elapsed().as_secs_f64();
+            let basis = &adaptive.basis;
+            let rom = reduced_model(kind, &coords, Some(&condensed), basis)?;
+            let res = &adaptive.sweep;
+            let errors = &adaptive.predicted_errors;
+            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors))?;
+            series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
+            let basis_seconds = 0.0;
+            let mut warnings = sweep_warnings(res, p, band);
+            if adaptive.worst_error > aopts.threshold {
+                warnings.push(format!(
+                    "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({:?})",
+                    adaptive.worst_error,
+                    aopts.threshold,
+                    adaptive.corrections.len(),
+                    adaptive.end
+                ));
+            }
+            let mut row = SolverRow {
+                level,
+                solver: name.to_string(),
+                sizes: rom.layout().sizes.clone(),
+                points: res.points.len(),
+                sweep_seconds: secs,
+                basis_seconds,
+                corrections: adaptive.corrections.len(),
+                peak_hz: p.omega / TWO_PI,
+                peak_x1: p.output_amplitude(1, 0),
+                peak_x0: p.output_coeff(0, 0),
+                error_x1: None,
+                error_x0: None,
+                predicted_e1: None,
+                actual_e1: None,
+                energy_error: None,
+                end: res.end.name().into(),
+                complete: res.reached_end(),
+                warnings,
+                worst_error: Some(adaptive.worst_error),
+            };
+            if let Some(fo) = &fo_peak {
+                // the ROM at the full-order resonance frequency, from its nearest sweep point
+                let guess = res.points.iter().min_by(|a, b| (a.omega - fo.omega).abs().total_cmp(&(b.omega - fo.omega).abs())).map(|q| q.z.clone());
+                let r = match solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &hopts) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        row.warnings.push(format!("no errors: the reduced model did not converge at the full-order peak ({e})"));
+                        rows.push(row);
+                        continue;
+                    }
+                };
+                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
+                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+                let e_star = predicted_error(rom.as_ref(), &plan, r.omega, &r.z)?;
+                let e = actual_error(rom.as_ref(), &plan, r.omega, &r.z, fo)?;
+                row.predicted_e1 = e_star.get(1).copied();
+                row.actual_e1 = e.get(1).copied();
+                let cycles = reduced_contact_cycles(rom.as_ref(), &plan, r.omega, &r.z)?;
+                let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
+                energies_at_peak.push((rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
+                if let Some(w) = &fo_warning {
+                    row.warnings.push(w.clone());
+                }
+                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
+                if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
+                    let label = name.to_string();
+                    match err_points.iter_mut().find(|(l, _)| *l == label) {
+                        Some((_, v)) => v.push((a, ps)),
+                        None => err_points.push((label, vec![(a, ps)])),
+                    }
+                }
+            }
+            rows.push(row);
+        }
+        if let (Some(fo), false) = (&fo_peak, study.basis.gamma_study.is_empty()) {
+            let bar = progress(1, &format!("gamma study, level {level:e}"), show_progress);
+            let t = Instant::now();
+            basis_study.extend(gamma_study(study, &coords, &condensed, &popts, &hopts, &plan, fo, level, &kinds)?);
+            basis_study_seconds += t.elapsed().as_secs_f64();
+            bar.finish_and_clear();
+        }
+        frf_series.push((level, series));
+        energy_series.push((level, energies));
+    }
+
+    // Energy errors relative to the largest energy per contact node met in the study (never
+    // round-off: a stuck contact dissipates exactly zero); a level without slip says so.
+    let largest = energies_at_peak.iter().flat_map(|(_, a, b)| a.iter().chain(b)).fold(0.0f64, |m, &e| m.max(e));
+    for (i, fo_w, rom_w) in &energies_at_peak {
+        if fo_w.iter().all(|&e| e == 0.0) && rom_w.iter().all(|&e| e == 0.0) {
+            rows[*i].warnings.push("every contact sticks at the full-order resonance: no friction dissipation".into());
+        } else if !rom_w.is_empty() && largest > 0.0 {
+            rows[*i].energy_error = Some(rom_w.iter().zip(fo_w).map(|(a, b)| (a - b).abs() / largest).fold(0.0, f64::max));
+        }
+    }
+    let incomplete = rows
+        .iter()
+        .filter(|r| !r.complete)
+        .map(|r| format!("{} at level {:e}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone())))
+        .collect();
+    let summary = RunSummary {
+        model_dofs: model.n_dof(),
+        contacts: model.contacts.len(),
+        stuck_resonance_hz: omega_st / TWO_PI,
+        alpha_st: limit.alpha,
+        stuck_limit_force: limit.force,
+        level_reference: limit.describe(),
+        incomplete,
+        build_seconds,
+        rows,
+        basis_study,
+        basis_study_seconds,
+    };
+    jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
+    if study.output.plots {
+        for (level, series) in &frf_series {
+            let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
+            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+            write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        }
+        for (level, series) in &energy_series {
+            let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
+            let title = if stuck {
+                format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}")
+            } else {
+                format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}")
+            };
+            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
+            write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        }
+        if !err_points.is_empty() {
+            let mut series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
+            for solver in ["FR", "NLR"] {
+                let pts: Vec<(f64, f64)> = summary
+                    .basis_study
+                    .iter()
+                    .filter(|r| r.solver == solver)
+                    .filter_map(|r| Some((r.actual_e1?, r.predicted_e1?)))
+                    .collect();
+                if !pts.is_empty() {
+                    series.push(Series::markers(format!("{solver}, gamma study"), pts));
+                }
+            }
+            let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at the FO resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
+            write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
+            let mut by_solver: Vec<Series> = Vec::new();
+            for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
+                let p = (r.level, r.error_x1.unwrap().max(1e-16));
+                match by_solver.iter_mut().find(|s| s.label == r.solver) {
+                    Some(s) => s.points.push(p),
+                    None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
+                }
+            }
+            let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
+            write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
+        }
+        for &level in &study.forcing.levels {
+            let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
+            if rows.is_empty() {
+                continue;
+            }
+            // per solver one colour: |X1| error (line), actual e_1 (line + squares), e*_1 (circles)
+            let mut series: Vec<Series> = Vec::new();
+            for (color, solver) in [(1usize, "FR"), (2, "NLR")] {
+                for (style, what, get) in [
+                    (0, "error of |X1|", (|r: &BasisStudyRow| r.error_x1) as fn(&BasisStudyRow) -> Option<f64>),
+                    (1, "actual e_1", |r: &BasisStudyRow| r.actual_e1),
+                    (2, "predicted e*_1", |r: &BasisStudyRow| r.predicted_e1),
+                ] {
+                    let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.solver == solver).filter_map(|r| get(r).map(|e| (r.sizes.get(1).copied().unwrap_or(0) as f64, e.max(1e-16)))).collect();
+                    if !pts.is_empty() {
+                        let label = format!("{solver}: {what}");
+                        let s = match style {
+                            0 => Series::line(label, pts),
+                            1 => Series::line_and_markers(label, pts),
+                            _ => Series::markers(label, pts),
+                        };
+                        series.push(s.color(color));
+                    }
+                }
+            }
+            let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}");
+            let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+            write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
+        }
+    }
+    if !summary.basis_study.is_empty() {
+        write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;
+    }
+    Ok(summary)
+}
+
+/// The summary as a fixed-width text table.
+pub fn summary_table(s: &RunSummary) -> String {
+    let alpha = &s.level_reference;
+    let mut out = format!(
+        "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, {alpha}, built in {:.1} s\n",
+        s.model_dofs, s.contacts, s.stuck_resonance_hz, s.build_seconds
+    );
+    out.push_str(&format!(
+        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
+    ));
+    let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
+    for r in &s.rows {
+        out.push_str(&format!(
+            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            r.level,
+            r.solver,
+            format!("{:?}", r.sizes),
+            r.points,
+            r.sweep_seconds,
+            r.corrections,
+            r.peak_hz,
+            r.peak_x1,
+            opt(r.error_x1),
+            opt(r.error_x0),
+            opt(r.predicted_e1),
+            opt(r.actual_e1),
+            opt(r.energy_error),
+            if r.warnings.is_empty() { r.end.clone() } else { format!("{} (!)", r.end) }
+        ));
+    }
+    let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty()).collect();
+    if !flagged.is_empty() {
+        out.push_str("(!) read with care:\n");
+        for r in flagged {
+            for w in &r.warnings {
+                out.push_str(&format!("  {} at a/a_ST = {:.1e}: {w}\n", r.solver, r.level));
+            }
+        }
+    }
+    if !s.basis_study.is_empty() {
+        out.push_str(&format!("error vs basis size at the FO resonance (basis.gamma_study, {:.1} s):\n", s.basis_study_seconds));
+        out.push_str(&format!("{:>10} {:<6} {:>8} {:>14} {:>9} {:>9} {:>9} {:>9}\n", "a/a_ST", "solver", "gamma", "n_h", "err X1", "err X0", "e*_1", "e_1"));
+        for r in &s.basis_study {
+            out.push_str(&format!(
+                "{:>10.1e} {:<6} {:>8.1e} {:>14} {:>9} {:>9} {:>9} {:>9}\n",
+                r.level,
+                r.solver,
+                r.gamma,
+                format!("{:?}", r.sizes),
+                opt(r.error_x1),
+                opt(r.error_x0),
+                opt(r.predicted_e1),
+                opt(r.actual_e1)
+            ));
+        }
+    }
+    out
+}

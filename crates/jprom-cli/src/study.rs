@@ -1,0 +1,765 @@
+//! The study file read by the `jprom` command-line program: what to model, how to force it,
+//! which band and harmonics, which bases and which solvers. TOML (or JSON, by extension).
+//!
+//! ```toml
+//! [model]
+//! kind = "blade"            # built-in shrouded blade, or "matrix_market" (see below)
+//! refinement = 1            # blade only: 2 (2r + 1)^2 contact nodes: 1 -> 18, 5 -> 242, 15 -> 1,922 (at most 15)
+//! cb_modes = 50             # Craig-Bampton fixed-interface modes
+//! damping_ratio = 0.002     # modal damping ratio at the band centre (stiffness-proportional)
+//!
+//! [band]
+//! hz_start = 2140.0
+//! hz_end = 2190.0
+//! points = 200              # target number of points per sweep (more at resonances)
+//! # optional continuation keys: min_step, max_step (scaled arclength), max_angle (rad), max_points
+//!
+//! [hbm]
+//! harmonics = 1
+//! nt = 64
+//! max_iterations = 400      # Newton iterations per point (and per continuation corrector)
+//!
+//! [forcing]
+//! levels = [0.1, 0.001]     # alpha / alpha_ST
+//!
+//! [basis]
+//! gamma = 1000.0
+//! samples = 100
+//! error_threshold = 0.05
+//! max_corrections = 5
+//!
+//! [solvers]
+//! full_order = true
+//! fr = true
+//! nlr = true
+//!
+//! [output]
+//! dir = "jprom-out"
+//! ```
+//!
+//! A Matrix Market model (paths relative to the study file):
+//!
+//! ```toml
+//! [model]
+//! kind = "matrix_market"
+//! mass = "M.mtx"
+//! stiffness = "K.mtx"
+//! dof_map = "nodes.json"    # io::dof_map: node ids -> coordinates and x, y, z DoFs
+//! cb_modes = 30
+//! output_nodes = [501, 502]
+//! output_components = ["y"] # default ["x", "y", "z"]; outputs are node-major
+//!
+//! [[model.contacts]]        # one set per frame and law; node-to-ground
+//! nodes = [1, 2, 3]
+//! normal = [-1.0, 0.0, 0.0] # into the ground
+//! tangent = [0.0, 1.0, 0.0] # optional t1 (default: the axis most perpendicular to normal)
+//! mu = 0.4
+//! kt1 = 2.0e4
+//! kt2 = 2.0e4
+//! kn = 2.3e4
+//! n0 = 0.0                  # optional normal preload per node
+//!
+//! [forcing]
+//! levels = [0.1]
+//! [[forcing.static]]        # f_E^0: magnitude along direction on each node
+//! nodes = [1, 2, 3]
+//! direction = [-1.0, 0.0, 0.0]
+//! magnitude = 33.3
+//! [[forcing.harmonic]]      # f_E^1 (cos part), scaled to the levels
+//! nodes = [501]
+//! direction = [0.0, 1.0, 0.0]
+//! magnitude = 1.0
+//! ```
+//!
+//! Unknown keys are errors, and every error names the offending key and its line. Sizes have
+//! documented caps ([`jprom::limits`]): `hbm.nt` <= 65536, `band.points` <= 100000,
+//! `basis.samples` <= 10000, `model.cb_modes` <= 5000, `model.refinement` <= 15.
+
+use jprom::fe::BladeParams;
+use jprom::error::{JpError, Result};
+use crate::locate::toml_line;
+use jprom::io::locate::{json_line, key_path};
+use jprom::limits::{MAX_BAND_POINTS, MAX_BLADE_REFINEMENT, MAX_CB_MODES, MAX_NT, MAX_SAMPLES};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A whole study.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    pub model: ModelSpec,
+    #[serde(default)]
+    pub band: BandSpec,
+    #[serde(default)]
+    pub hbm: HbmSpec,
+    #[serde(default)]
+    pub forcing: ForcingSpec,
+    #[serde(default)]
+    pub basis: BasisSpec,
+    #[serde(default)]
+    pub solvers: SolverSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// Where the structure comes from. Read through the flat table [`RawModel`] (so that a bad
+/// value deep inside `[model]` is reported with its full key and line, which an internally
+/// tagged enum would lose), then checked for keys that do not belong to its `kind`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(try_from = "RawModel", into = "RawModel")]
+pub enum ModelSpec {
+    /// The built-in shrouded blade (method.md §11).
+    Blade {
+        refinement: usize,
+        cb_modes: usize,
+        damping_ratio: f64,
+        contact: ContactSpec,
+    },
+    /// Matrix Market `M`, `K` and a node/DoF map ([`jprom::io::dof_map`]) placing contacts,
+    /// outputs and forces (`[[forcing.static]]`, `[[forcing.harmonic]]`). Craig-Bampton keeps
+    /// the contact, forced and output nodes as boundary. Paths are relative to the study file.
+    MatrixMarket {
+        mass: PathBuf,
+        stiffness: PathBuf,
+        dof_map: PathBuf,
+        cb_modes: usize,
+        damping_ratio: f64,
+        /// Node-to-ground contact sets (`[[model.contacts]]`).
+        contacts: Vec<ContactSetSpec>,
+        /// Output node ids; the first component of the first node is the response plotted.
+        output_nodes: Vec<i64>,
+        /// Which of each output node's DoFs are outputs (default all three).
+        output_components: Vec<Axis>,
+    },
+}
+
+/// `model.kind`.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    Blade,
+    MatrixMarket,
+}
+
+/// The `[model]` table as written: every key of every kind.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RawModel {
+    pub kind: ModelKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<usize>,
+    #[serde(default = "fifty")]
+    pub cb_modes: usize,
+    #[serde(default = "default_damping_ratio")]
+    pub damping_ratio: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<PathBuf>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<PathBuf>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dof_map: Option<PathBuf>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contacts: Vec<ContactSetSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub output_nodes: Vec<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output_components: Option<Vec<Axis>>,
+}
+
+impl TryFrom<RawModel> for ModelSpec {
+    type Error = String;
+    fn try_from(r: RawModel) -> std::result::Result<Self, String> {
+        let not_for = |key: &str, kind: &str| Err(format!("key 'model.{key}' does not apply to kind = \"{kind}\""));
+        match r.kind {
+            ModelKind::Blade => {
+                for (key, given) in [
+                    ("mass", r.mass.is_some()),
+                    ("stiffness", r.stiffness.is_some()),
+                    ("dof_map", r.dof_map.is_some()),
+                    ("contacts", !r.contacts.is_empty()),
+                    ("output_nodes", !r.output_nodes.is_empty()),
+                    ("output_components", r.output_components.is_some()),
+                ] {
+                    if given {
+                        return not_for(key, "blade");
+                    }
+                }
+                Ok(ModelSpec::Blade {
+                    refinement: r.refinement.unwrap_or(1),
+                    cb_modes: r.cb_modes,
+                    damping_ratio: r.damping_ratio,
+                    contact: r.contact.unwrap_or_default(),
+                })
+            }
+            ModelKind::MatrixMarket => {
+                if r.refinement.is_some() {
+                    return not_for("refinement", "matrix_market");
+                }
+                if r.contact.is_some() {
+                    return not_for("contact", "matrix_market (use [[model.contacts]] sets)");
+                }
+                let need = |key: &str, p: Option<PathBuf>| p.ok_or_else(|| format!("key 'model.{key}' is required for kind = \"matrix_market\""));
+                Ok(ModelSpec::MatrixMarket {
+                    mass: need("mass", r.mass)?,
+                    stiffness: need("stiffness", r.stiffness)?,
+                    dof_map: need("dof_map", r.dof_map)?,
+                    cb_modes: r.cb_modes,
+                    damping_ratio: r.damping_ratio,
+                    contacts: r.contacts,
+                    output_nodes: r.output_nodes,
+                    output_components: r.output_components.unwrap_or_else(xyz),
+                })
+            }
+        }
+    }
+}
+
+impl From<ModelSpec> for RawModel {
+    fn from(m: ModelSpec) -> RawModel {
+        match m {
+            ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => RawModel {
+                kind: ModelKind::Blade,
+                refinement: Some(refinement),
+                cb_modes,
+                damping_ratio,
+                contact: Some(contact),
+                mass: None,
+                stiffness: None,
+                dof_map: None,
+                contacts: Vec::new(),
+                output_nodes: Vec::new(),
+                output_components: None,
+            },
+            ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } => RawModel {
+                kind: ModelKind::MatrixMarket,
+                refinement: None,
+                cb_modes,
+                damping_ratio,
+                contact: None,
+                mass: Some(mass),
+                stiffness: Some(stiffness),
+                dof_map: Some(dof_map),
+                contacts,
+                output_nodes,
+                output_components: Some(output_components),
+            },
+        }
+    }
+}
+
+/// A global axis.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+fn xyz() -> Vec<Axis> {
+    vec![Axis::X, Axis::Y, Axis::Z]
+}
+
+/// A set of node-to-ground contacts sharing a local frame and a law (Matrix Market models).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSetSpec {
+    /// Contact node ids (in the DoF map).
+    pub nodes: Vec<i64>,
+    /// Contact normal, pointing into the ground (normalised; need not be unit).
+    pub normal: [f64; 3],
+    /// First tangent direction `t1` (its part normal to `normal` is used); default: the global
+    /// axis most perpendicular to `normal`. `t2 = n x t1`.
+    #[serde(default)]
+    pub tangent: Option<[f64; 3]>,
+    #[serde(default = "default_mu")]
+    pub mu: f64,
+    #[serde(default = "default_kt1")]
+    pub kt1: f64,
+    #[serde(default = "default_kt2")]
+    pub kt2: f64,
+    #[serde(default = "default_kn")]
+    pub kn: f64,
+    /// Normal preload per node at zero normal displacement (`N = max(0, n0 + kn v)`).
+    #[serde(default)]
+    pub n0: f64,
+}
+
+impl ContactSetSpec {
+    fn frame_normal_ok(&self) -> bool {
+        let n = self.normal;
+        let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        nn.is_finite() && nn > 0.0
+    }
+
+    /// The local frame, rows `t1, t2, n` (unit, right-handed), or why not.
+    pub fn frame(&self) -> std::result::Result<[[f64; 3]; 3], String> {
+        let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let nn = norm(self.normal);
+        if !(nn.is_finite() && nn > 0.0) {
+            return Err(format!("must be a finite nonzero vector, got {:?}", self.normal));
+        }
+        let n = self.normal.map(|x| x / nn);
+        let t = match self.tangent {
+            Some(t) => t,
+            None => {
+                // the global axis least aligned with n (first one on ties)
+                let k = (0..3).min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(0);
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                e
+            }
+        };
+        let d = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+        let t1 = [t[0] - d * n[0], t[1] - d * n[1], t[2] - d * n[2]];
+        let nt = norm(t1);
+        if !(nt.is_finite() && nt > 1e-6 * norm(t).max(f64::MIN_POSITIVE)) {
+            return Err(format!("tangent {t:?} is zero, not finite or parallel to the normal"));
+        }
+        let t1 = t1.map(|x| x / nt);
+        let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
+        Ok([t1, t2, n])
+    }
+}
+
+/// A nodal load: `magnitude` along unit `direction` on each of `nodes` (Matrix Market models).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NodalLoad {
+    pub nodes: Vec<i64>,
+    pub direction: [f64; 3],
+    /// Force per node.
+    pub magnitude: f64,
+}
+
+impl NodalLoad {
+    /// `magnitude * direction / |direction|`, or why not.
+    pub fn vector(&self) -> std::result::Result<[f64; 3], String> {
+        let d = self.direction;
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(format!("must be a finite nonzero vector, got {d:?}"));
+        }
+        Ok(d.map(|x| self.magnitude * x / n))
+    }
+}
+
+/// Contact parameters per node (defaults: method.md §11).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSpec {
+    pub mu: f64,
+    pub kt1: f64,
+    pub kt2: f64,
+    pub kn: f64,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        ContactSpec { mu: default_mu(), kt1: default_kt1(), kt2: default_kt2(), kn: default_kn() }
+    }
+}
+
+fn default_mu() -> f64 {
+    0.4
+}
+fn default_kt1() -> f64 {
+    2.0126e4
+}
+fn default_kt2() -> f64 {
+    2.0059e4
+}
+fn default_kn() -> f64 {
+    2.34152e4
+}
+
+/// Frequency band, in Hz.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct BandSpec {
+    pub hz_start: f64,
+    pub hz_end: f64,
+    pub points: usize,
+    /// Continuation steps in the scaled arclength, the largest turn between chords, and the
+    /// point cap of each sweep; unset keys take [`jprom::hbm::SweepOptions`]' defaults (the cap:
+    /// 20 x `points`, within 1,000 and 100,000).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_step: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_step: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_angle: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_points: Option<usize>,
+}
+
+impl Default for BandSpec {
+    fn default() -> Self {
+        BandSpec { hz_start: 2140.0, hz_end: 2190.0, points: 200, min_step: None, max_step: None, max_angle: None, max_points: None }
+    }
+}
+
+impl BandSpec {
+    /// The continuation settings of the band (rad/s): about `points` points where the response
+    /// is smooth, more at resonances and folds, and the keys given.
+    pub fn sweep_options(&self) -> jprom::hbm::SweepOptions {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let mut s = jprom::hbm::SweepOptions {
+            max_points: (20 * self.points).clamp(1000, 100_000),
+            ..jprom::hbm::SweepOptions::with_points(two_pi * self.hz_start, two_pi * self.hz_end, self.points)
+        };
+        if let Some(v) = self.min_step {
+            s.min_step = v;
+        }
+        if let Some(v) = self.max_step {
+            s.max_step = v;
+        }
+        s.initial_step = s.initial_step.clamp(s.min_step.min(s.max_step), s.max_step);
+        if let Some(v) = self.max_angle {
+            s.max_angle = v;
+        }
+        if let Some(v) = self.max_points {
+            s.max_points = v;
+        }
+        s
+    }
+}
+
+/// Harmonic balance settings.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct HbmSpec {
+    pub harmonics: usize,
+    pub nt: usize,
+    /// Newton iterations per point, all attempts together; bounds the continuation's corrector
+    /// too (default 400, [`jprom::hbm::HbmOptions::max_iterations`]).
+    pub max_iterations: usize,
+}
+
+impl Default for HbmSpec {
+    fn default() -> Self {
+        HbmSpec { harmonics: 1, nt: 64, max_iterations: jprom::hbm::HbmOptions::default().max_iterations }
+    }
+}
+
+/// Excitation levels, as `alpha / alpha_ST`, and (Matrix Market models) the loads.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ForcingSpec {
+    pub levels: Vec<f64>,
+    /// Static load `f_E^0` (`[[forcing.static]]`, Matrix Market models only).
+    #[serde(rename = "static", skip_serializing_if = "Vec::is_empty")]
+    pub static_loads: Vec<NodalLoad>,
+    /// First-harmonic load `f_E^1`, cos part (`[[forcing.harmonic]]`, Matrix Market models only);
+    /// its scale is set by `levels`.
+    #[serde(rename = "harmonic", skip_serializing_if = "Vec::is_empty")]
+    pub harmonic_loads: Vec<NodalLoad>,
+}
+
+impl Default for ForcingSpec {
+    fn default() -> Self {
+        ForcingSpec { levels: vec![0.1, 1e-3], static_loads: Vec::new(), harmonic_loads: Vec::new() }
+    }
+}
+
+/// JP basis options.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct BasisSpec {
+    pub gamma: f64,
+    pub samples: usize,
+    pub error_threshold: f64,
+    /// Most basis corrections of the self-correcting sweep per level and ROM.
+    pub max_corrections: usize,
+    /// JP eigenpairs kept beyond the band, nearest first (`ModeOptions::extra_outside`): at
+    /// gross slip the slipping mode leaves the band, and the in-band ones alone may miss it.
+    pub extra_modes: usize,
+    /// Error vs basis size: at each level, one predicted basis per `gamma` in this list, each
+    /// ROM solved at the full-order resonance (needs `solvers.full_order`). Empty: no study.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub gamma_study: Vec<f64>,
+}
+
+impl Default for BasisSpec {
+    fn default() -> Self {
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, extra_modes: 2, gamma_study: Vec::new() }
+    }
+}
+
+/// Which solvers run.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSpec {
+    pub full_order: bool,
+    pub fr: bool,
+    pub nlr: bool,
+}
+
+impl Default for SolverSpec {
+    fn default() -> Self {
+        SolverSpec { full_order: true, fr: true, nlr: true }
+    }
+}
+
+/// Where results go.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    pub dir: PathBuf,
+    pub plots: bool,
+    /// Exit with success even when a sweep did not cover the band (default false: `jprom run`
+    /// then exits with status 3 after writing what it has).
+    pub keep_partial: bool,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec { dir: PathBuf::from("jprom-out"), plots: true, keep_partial: false }
+    }
+}
+
+fn fifty() -> usize {
+    50
+}
+fn default_damping_ratio() -> f64 {
+    0.002
+}
+
+impl Study {
+    /// Reads a study from a `.toml` or `.json` file and validates it.
+    ///
+    /// # Errors
+    /// [`JpError::Parse`] naming the file, the line where known, the offending key and the reason.
+    pub fn from_file(path: &Path) -> Result<Study> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| JpError::Io { path: path.display().to_string(), reason: e.to_string() })?;
+        let is_json = path.extension().map(|e| e == "json").unwrap_or(false);
+        let study = if is_json { Self::from_json_str(&text) } else { Self::from_toml_str(&text) };
+        let mut study = study.map_err(|e| match e {
+            JpError::Parse { line, reason, .. } => JpError::Parse { path: path.display().to_string(), line, reason },
+            other => other,
+        })?;
+        study.resolve_paths(path.parent().unwrap_or(Path::new("")));
+        Ok(study)
+    }
+
+    /// Makes the relative paths of the study (model files, `output.dir`) relative to `base`,
+    /// the study file's directory. [`Study::from_file`] does this.
+    pub fn resolve_paths(&mut self, base: &Path) {
+        let fix = |p: &mut PathBuf| {
+            if p.is_relative() && !base.as_os_str().is_empty() {
+                *p = base.join(&*p);
+            }
+        };
+        if let ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } = &mut self.model {
+            fix(mass);
+            fix(stiffness);
+            fix(dof_map);
+        }
+        fix(&mut self.output.dir);
+    }
+
+    /// Parses and validates TOML text.
+    pub fn from_toml_str(text: &str) -> Result<Study> {
+        let de = toml::Deserializer::parse(text).map_err(|e| parse_error(text, e.span().map(|s| s.start), e.message()))?;
+        let study: Study = serde_path_to_error::deserialize(de).map_err(|e| {
+            let key = e.path().to_string();
+            let inner = e.into_inner();
+            parse_error(text, inner.span().map(|s| s.start), &format!("key '{key}': {}", inner.message()))
+        })?;
+        study.check().map_err(|(key, reason)| study_error(toml_line(text, &key_path(&key)).unwrap_or(0), &key, &reason))?;
+        Ok(study)
+    }
+
+    /// Parses and validates JSON text.
+    pub fn from_json_str(text: &str) -> Result<Study> {
+        let mut de = serde_json::Deserializer::from_str(text);
+        let study: Study = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let key = e.path().to_string();
+            let inner = e.into_inner();
+            JpError::Parse { path: "<study>".into(), line: inner.line(), reason: format!("key '{key}': {inner}") }
+        })?;
+        study.check().map_err(|(key, reason)| study_error(json_line(text, &key_path(&key)).unwrap_or(0), &key, &reason))?;
+        Ok(study)
+    }
+
+    /// Range and consistency checks; each error names its key (the parsers
+    /// [`Study::from_toml_str`] and [`Study::from_json_str`] add its line).
+    pub fn validate(&self) -> Result<()> {
+        self.check().map_err(|(key, reason)| study_error(0, &key, &reason))
+    }
+
+    /// [`Study::validate`] as the offending key and the reason.
+    fn check(&self) -> std::result::Result<(), (String, String)> {
+        let bad = |key: &str, reason: String| Err((key.to_string(), reason));
+        let over = |key: &str, value: usize, limit: usize, why: &str| Err((key.to_string(), format!("{value} is above jprom's limit of {limit} ({why})")));
+        let (cb_modes, damping_ratio, contact) = match &self.model {
+            ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
+                if *refinement > MAX_BLADE_REFINEMENT {
+                    return over("model.refinement", *refinement, MAX_BLADE_REFINEMENT, "15 gives 1,922 contact nodes and 140,658 FE DoFs");
+                }
+                // the library's own rules for the blade (refinement >= 1, positive contact law)
+                let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
+                if let Err(e) = params.validate() {
+                    let (key, reason) = match e {
+                        JpError::InvalidValue { what, reason } => (what, reason),
+                        other => ("blade".to_string(), other.to_string()),
+                    };
+                    let key = match key.strip_prefix("blade.") {
+                        Some(k @ ("mu" | "kt1" | "kt2" | "kn")) => format!("model.contact.{k}"),
+                        Some(k) => format!("model.{k}"),
+                        None => key,
+                    };
+                    return bad(&key, reason);
+                }
+                (*cb_modes, *damping_ratio, Some(contact))
+            }
+            ModelSpec::MatrixMarket { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. } => {
+                if contacts.is_empty() {
+                    return bad("model.contacts", "a matrix_market model needs at least one [[model.contacts]] set".into());
+                }
+                for (i, c) in contacts.iter().enumerate() {
+                    let key = |k: &str| format!("model.contacts[{i}].{k}");
+                    if c.nodes.is_empty() {
+                        return bad(&key("nodes"), "needs at least one node id".into());
+                    }
+                    if let Err(reason) = c.frame() {
+                        let k = if c.frame_normal_ok() { "tangent" } else { "normal" };
+                        return bad(&key(k), reason);
+                    }
+                    for (k, v) in [("mu", c.mu), ("kt1", c.kt1), ("kt2", c.kt2), ("kn", c.kn)] {
+                        if !(v.is_finite() && v >= 0.0) {
+                            return bad(&key(k), format!("must be finite and >= 0, got {v}"));
+                        }
+                    }
+                    if !c.n0.is_finite() {
+                        return bad(&key("n0"), format!("must be finite, got {}", c.n0));
+                    }
+                }
+                if output_nodes.is_empty() {
+                    return bad("model.output_nodes", "needs at least one node id".into());
+                }
+                if output_components.is_empty() {
+                    return bad("model.output_components", "needs at least one of \"x\", \"y\", \"z\"".into());
+                }
+                if self.forcing.harmonic_loads.is_empty() {
+                    return bad("forcing.harmonic", "a matrix_market model needs at least one [[forcing.harmonic]] load".into());
+                }
+                for (name, loads) in [("static", &self.forcing.static_loads), ("harmonic", &self.forcing.harmonic_loads)] {
+                    for (i, l) in loads.iter().enumerate() {
+                        if l.nodes.is_empty() {
+                            return bad(&format!("forcing.{name}[{i}].nodes"), "needs at least one node id".into());
+                        }
+                        if !l.magnitude.is_finite() {
+                            return bad(&format!("forcing.{name}[{i}].magnitude"), format!("must be finite, got {}", l.magnitude));
+                        }
+                        if let Err(reason) = l.vector() {
+                            return bad(&format!("forcing.{name}[{i}].direction"), reason);
+                        }
+                    }
+                }
+                (*cb_modes, *damping_ratio, None)
+            }
+        };
+        if matches!(self.model, ModelSpec::Blade { .. }) {
+            if !self.forcing.static_loads.is_empty() {
+                return bad("forcing.static", "nodal loads are for model.kind = \"matrix_market\" (the blade has its own)".into());
+            }
+            if !self.forcing.harmonic_loads.is_empty() {
+                return bad("forcing.harmonic", "nodal loads are for model.kind = \"matrix_market\" (the blade has its own)".into());
+            }
+        }
+        if cb_modes == 0 {
+            return bad("model.cb_modes", "must be at least 1".into());
+        }
+        if cb_modes > MAX_CB_MODES {
+            return over("model.cb_modes", cb_modes, MAX_CB_MODES, "the reduced model is dense");
+        }
+        if !(damping_ratio.is_finite() && damping_ratio >= 0.0) {
+            return bad("model.damping_ratio", format!("must be finite and >= 0, got {damping_ratio}"));
+        }
+        for (k, v) in contact.iter().flat_map(|c| [("mu", c.mu), ("kt1", c.kt1), ("kt2", c.kt2), ("kn", c.kn)]) {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(&format!("model.contact.{k}"), format!("must be finite and >= 0, got {v}"));
+            }
+        }
+        let b = &self.band;
+        if !(b.hz_start.is_finite() && b.hz_start > 0.0) {
+            return bad("band.hz_start", format!("must be finite and > 0, got {}", b.hz_start));
+        }
+        if !(b.hz_end.is_finite() && b.hz_end > b.hz_start) {
+            return bad("band.hz_end", format!("must be finite and > band.hz_start, got {}", b.hz_end));
+        }
+        if b.points < 2 {
+            return bad("band.points", format!("must be at least 2, got {}", b.points));
+        }
+        if b.points > MAX_BAND_POINTS {
+            return over("band.points", b.points, MAX_BAND_POINTS, "points per sweep");
+        }
+        if !(1..=16).contains(&self.hbm.harmonics) {
+            return bad("hbm.harmonics", format!("must be in 1..=16, got {}", self.hbm.harmonics));
+        }
+        let nt = self.hbm.nt;
+        if !nt.is_power_of_two() || nt < 4 * (self.hbm.harmonics + 1) {
+            return bad("hbm.nt", format!("must be a power of two >= 4 (harmonics + 1), got {nt}"));
+        }
+        if nt > MAX_NT {
+            return over("hbm.nt", nt, MAX_NT, "AFT samples per period");
+        }
+        if self.forcing.levels.is_empty() {
+            return bad("forcing.levels", "needs at least one level".into());
+        }
+        for (i, &l) in self.forcing.levels.iter().enumerate() {
+            if !(l.is_finite() && l > 0.0) {
+                return bad(&format!("forcing.levels[{i}]"), format!("must be finite and > 0, got {l}"));
+            }
+        }
+        if !(self.basis.gamma.is_finite() && self.basis.gamma >= 1.0) {
+            return bad("basis.gamma", format!("must be finite and >= 1, got {}", self.basis.gamma));
+        }
+        if self.basis.samples < 2 {
+            return bad("basis.samples", format!("must be at least 2, got {}", self.basis.samples));
+        }
+        if self.basis.samples > MAX_SAMPLES {
+            return over("basis.samples", self.basis.samples, MAX_SAMPLES, "amplitude samples of the prediction");
+        }
+        if !(self.basis.error_threshold.is_finite() && self.basis.error_threshold > 0.0) {
+            return bad("basis.error_threshold", format!("must be finite and > 0, got {}", self.basis.error_threshold));
+        }
+        for (i, &g) in self.basis.gamma_study.iter().enumerate() {
+            if !(g.is_finite() && g >= 1.0) {
+                return bad(&format!("basis.gamma_study[{i}]"), format!("must be finite and >= 1, got {g}"));
+            }
+        }
+        if !self.basis.gamma_study.is_empty() && !(self.solvers.full_order && (self.solvers.fr || self.solvers.nlr)) {
+            return bad("basis.gamma_study", "needs solvers.full_order and at least one of fr, nlr (errors are against the full order)".into());
+        }
+        if !(self.solvers.full_order || self.solvers.fr || self.solvers.nlr) {
+            return bad("solvers", "enable at least one of full_order, fr, nlr".into());
+        }
+        Ok(())
+    }
+}
+
+/// A study error about `key` at `line` (0: no line, e.g. a study built in code).
+fn study_error(line: usize, key: &str, reason: &str) -> JpError {
+    JpError::Parse { path: "<study>".into(), line, reason: format!("key '{key}': {reason}") }
+}
+
+fn parse_error(text: &str, offset: Option<usize>, reason: &str) -> JpError {
+    let line = offset.map(|o| text[..o.min(text.len())].lines().count().max(1)).unwrap_or(0);
+    JpError::Parse { path: "<study>".into(), line, reason: reason.to_string() }
+}

@@ -1,0 +1,203 @@
+//! JP at about 2,000 contact nodes (issue 5 performance): the built-in blade at refinement 15
+//! (2 x 31^2 = 1,922 contact nodes, about 141k FE DoFs), Craig-Bampton with 50 modes without
+//! the constraint modes (`keep_recovery: false`), the predicted basis (stuck mode, gamma 1e3,
+//! in-band + 2 modes) and 200-point FR and NLR sweeps of the band at `alpha_ST / 10`, H = 1.
+//! Prints each stage's time and the peak resident memory. The full-order sweep is not run
+//! (its dense Jacobian alone is `(3 n_w)^2` doubles, 2.4 GB at H = 1, and each Newton
+//! iteration factorises it; see `jp_blade` for its per-point cost on smaller blades and the
+//! extrapolation); with `JPROM_2K_FO=1` one full-order point is solved at the NLR resonance
+//! from the NLR solution, for its measured cost and the actual errors of both ROMs. That
+//! point peaked at 16.6 GB resident (dense Jacobian, its LU and the condensed `n_w x n_w`
+//! complex blocks): it needs a machine with ~20 GB free.
+//!
+//! Measured (shared 2-core machine, load 5-7, 20 samples, cached CB): CB 645 s at 4.0 GB;
+//! basis 1,410 s (20 patterns, ~70 s each), sizes [57, 11]; FR 0.113 s/point, NLR
+//! 0.124 s/point; e*_1 0.026 (FR), 0.028 (NLR); one FO point 114 s (3 iterations), actual
+//! e_1 3.4e-3 (FR), 2.6e-3 (NLR).
+//!
+//! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
+//! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
+//! `JPROM_2K_H` (default 1), `JPROM_2K_STOP=cb` to stop after the Craig-Bampton reduction,
+//! `JPROM_2K_CACHE=dir` to keep the reduced model in `dir` and reuse it on the next run.
+
+use jprom_testkit::blade as blade_support;
+mod common;
+
+use blade_support::*;
+use common::vm_hwm_mb;
+use jprom::aft::AftPlan;
+use jprom::fe::{BladeParams, BuiltinBlade, CbOptions};
+use jprom::condensation::CondensedSystem;
+use jprom::rom::error_metric::{actual_error, predicted_error};
+use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
+use jprom::jp::{predict_basis, stuck_mode, PredictionOptions};
+use faer::Mat;
+use jprom::model::{ContactCoordinates, Damping, Model};
+use jprom::rom::{FrRom, NlrRom, ReducedModel};
+use std::f64::consts::PI;
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+const POINTS: usize = 200;
+
+fn env_usize(name: &str, default: usize) -> usize {
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+fn stage(name: &str, t: Instant) -> f64 {
+    let s = t.elapsed().as_secs_f64();
+    eprintln!("[{name}] {s:.1} s, peak RSS {:.0} MB", vm_hwm_mb());
+    s
+}
+
+/// The CB model cached as raw little-endian `M`, `K` (column-major) plus JSON for the rest.
+fn save_model(path: &std::path::Path, m: &Model, n_fe: usize) {
+    let mut raw = Vec::with_capacity(16 * m.n_dof() * m.n_dof());
+    for a in [&m.mass, &m.stiffness] {
+        for j in 0..a.ncols() {
+            for i in 0..a.nrows() {
+                raw.extend_from_slice(&a[(i, j)].to_le_bytes());
+            }
+        }
+    }
+    let rest = Model { mass: Mat::zeros(0, 0), stiffness: Mat::zeros(0, 0), ..m.clone() };
+    let _ = std::fs::write(path.with_extension("bin"), raw);
+    let _ = std::fs::write(path.with_extension("json"), serde_json::to_string(&(rest, n_fe, m.n_dof())).unwrap());
+}
+
+fn load_model(path: &std::path::Path) -> Option<(Model, usize)> {
+    let (mut m, n_fe, n): (Model, usize, usize) = serde_json::from_str(&std::fs::read_to_string(path.with_extension("json")).ok()?).ok()?;
+    let raw = std::fs::read(path.with_extension("bin")).ok()?;
+    if raw.len() != 16 * n * n {
+        return None;
+    }
+    let at = |k: usize| f64::from_le_bytes(raw[8 * k..8 * k + 8].try_into().unwrap());
+    m.mass = Mat::from_fn(n, n, |i, j| at(i + j * n));
+    m.stiffness = Mat::from_fn(n, n, |i, j| at(n * n + i + j * n));
+    Some((m, n_fe))
+}
+
+fn main() {
+    let refinement = env_usize("JPROM_2K_REFINEMENT", 15);
+    let n_samples = env_usize("JPROM_2K_SAMPLES", 8);
+    let h = env_usize("JPROM_2K_H", 1);
+    let stop_after_cb = std::env::var("JPROM_2K_STOP").map(|v| v == "cb").unwrap_or(false);
+    let band = (2.0 * PI * BAND_HZ.0, 2.0 * PI * BAND_HZ.1);
+
+    let cache = std::env::var("JPROM_2K_CACHE").ok().map(|d| std::path::PathBuf::from(d).join(format!("blade_r{refinement}")));
+    let (model0, n_fe, n_contacts, t_fe, t_cb, rss_cb) = match cache.as_ref().and_then(|c| load_model(c)) {
+        Some((m, n_fe)) => {
+            eprintln!("[CB model read from the cache {:?}]", cache.as_ref().unwrap());
+            let nc = m.contacts.len();
+            (m, n_fe, nc, f64::NAN, f64::NAN, f64::NAN)
+        }
+        None => {
+            let t = Instant::now();
+            let fe = BuiltinBlade::build(&BladeParams { refinement, ..BladeParams::default() }).expect("blade");
+            let n_fe = fe.n_dof();
+            let n_contacts = fe.contacts.len();
+            let t_fe = stage(&format!("FE model: {n_fe} DoFs, {n_contacts} contact nodes"), t);
+            let t = Instant::now();
+            let cb = fe.reduce_with(CbOptions { n_modes: 50, keep_recovery: false }).expect("CB");
+            drop(fe);
+            let t_cb = stage(&format!("Craig-Bampton: {} reduced DoFs", cb.cb.n_reduced()), t);
+            let rss_cb = vm_hwm_mb();
+            let m = cb.to_model(Damping::from_modal_ratio(ZETA, 2.0 * PI * 2165.0)).expect("model");
+            if let Some(c) = &cache {
+                save_model(c, &m, n_fe);
+            }
+            (m, n_fe, n_contacts, t_fe, t_cb, rss_cb)
+        }
+    };
+    if stop_after_cb {
+        return;
+    }
+
+    // Stuck first bending of the reduced model (shift-invert, the JP prediction's own stuck
+    // mode), the damping at it, and alpha_ST.
+    let t = Instant::now();
+    let (omega_stuck, _) = stuck_mode(&ContactCoordinates::new(&model0, 1).unwrap(), band).expect("stuck mode");
+    let mut model = model0;
+    model.damping = Damping::from_modal_ratio(ZETA, omega_stuck);
+    let alpha_st = alpha_stuck(&model, omega_stuck);
+    let mut model = model;
+    model.excitation.set_level(alpha_st / 10.0).unwrap();
+    let t_setup = stage(&format!("stuck mode {:.2} Hz, alpha_ST {alpha_st:.4e}", omega_stuck / (2.0 * PI)), t);
+
+    let hopts = HbmOptions::with_harmonics(h);
+    let coords = ContactCoordinates::new(&model, h).unwrap();
+    let plan = AftPlan::new(h, hopts.nt()).unwrap();
+    let mut popts = PredictionOptions::new(band);
+    popts.harmonics = h;
+    popts.n_samples = n_samples;
+    let t = Instant::now();
+    let (basis, rep) = predict_basis(&coords, &popts).expect("basis");
+    let t_basis = stage(&format!("basis: {} samples, {} patterns, sizes {:?}", n_samples, rep.n_patterns, basis.sizes), t);
+    let rss_basis = vm_hwm_mb();
+
+    let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: POINTS, ..SweepOptions::band(band.0, band.1) };
+    let t = Instant::now();
+    let fr = FrRom::new(&coords, &basis).unwrap();
+    let t_fr_build = stage("FR model", t);
+    let t = Instant::now();
+    let fr_sweep = sweep(&fr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("FR sweep");
+    let t_fr = stage(&format!("FR sweep: {} points", fr_sweep.points.len()), t) / fr_sweep.points.len().max(1) as f64;
+    let t = Instant::now();
+    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let nlr = NlrRom::new(&cond, &basis).unwrap();
+    let t_nlr_build = stage("NLR model", t);
+    let t = Instant::now();
+    let nlr_sweep = sweep(&nlr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("NLR sweep");
+    let t_nlr = stage(&format!("NLR sweep: {} points", nlr_sweep.points.len()), t) / nlr_sweep.points.len().max(1) as f64;
+
+    // e*_1 of each ROM at its own resonance (no full-order solution at this size).
+    let peak = |pts: &[jprom::hbm::PointSolution]| pts.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).cloned().unwrap();
+    let (pf, pn) = (peak(&fr_sweep.points), peak(&nlr_sweep.points));
+    let es_fr = predicted_error(&fr, &plan, pf.omega, &pf.z).map(|e| e[1]).unwrap_or(f64::NAN);
+    let es_nlr = predicted_error(&nlr, &plan, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
+    let nlr_vs_fr = {
+        let (a, b) = (tip(&pf.outputs, pf.n_outputs, 1), tip(&pn.outputs, pn.n_outputs, 1));
+        let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+        d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
+    };
+    println!("| contacts | FE DoFs | n_w | H | FE build s | CB s | CB peak RSS MB | setup s | basis s | samples / patterns | sizes n_h | FR build s | FR s/point | NLR build s | NLR s/point | FR e*_1 | NLR e*_1 | FR-NLR peak tip diff | peak RSS MB |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!(
+        "| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | {t_basis:.1} | {n_samples} / {} | {:?} | {t_fr_build:.1} | {t_fr:.3} | {t_nlr_build:.1} | {t_nlr:.3} | {es_fr:.1e} | {es_nlr:.1e} | {nlr_vs_fr:.1e} | {:.0} (basis stage {rss_basis:.0}) |",
+        coords.n_w,
+        rep.n_patterns,
+        basis.sizes,
+        vm_hwm_mb(),
+    );
+    println!("(resonance {:.2} Hz FR, {:.2} Hz NLR)", pf.omega / (2.0 * PI), pn.omega / (2.0 * PI));
+
+    // One full-order point (condensed, dense Jacobian) at the NLR resonance, from the NLR
+    // solution: its measured cost per Newton iteration, and the actual errors e_1 of both ROMs
+    // there against their predictors e*_1.
+    if std::env::var("JPROM_2K_FO").map(|v| v == "1").unwrap_or(false) {
+        let guess = nlr.condensed_unknowns(&pn.z).unwrap();
+        let t = Instant::now();
+        match solve_point(&cond, pn.omega, Some(&guess), &hopts) {
+            Ok(fo) => {
+                let t_fo = stage(&format!("FO point: {} iterations, converged {}", fo.iterations, fo.converged), t);
+                let fr_pt = solve_point(&fr, pn.omega, Some(&pf.z), &hopts).ok();
+                let row = |name: &str, rom: &dyn ReducedModel, z: &[f64], outputs: &[f64]| {
+                    let e = actual_error(rom, &plan, pn.omega, z, &fo).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let es = predicted_error(rom, &plan, pn.omega, z).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let tip_e = tip_error(outputs, &fo.outputs, fo.n_outputs, 1);
+                    println!("| {name} | {e:.1e} | {es:.1e} | {tip_e:.1e} |");
+                };
+                println!("\nFull order at {:.2} Hz: {:.0} s for {} Newton iterations ({:.0} s each), peak RSS {:.0} MB", pn.omega / (2.0 * PI), t_fo, fo.iterations, t_fo / fo.iterations.max(1) as f64, vm_hwm_mb());
+                println!("| ROM | e_1 (actual) | e*_1 (predicted) | tip X1 error |");
+                println!("|---|---|---|---|");
+                row("NLR", &nlr, &pn.z, &pn.outputs);
+                if let Some(p) = fr_pt {
+                    row("FR", &fr, &p.z, &p.outputs);
+                }
+            }
+            Err(e) => {
+                stage(&format!("FO point failed: {e}"), t);
+            }
+        }
+    }
+}
