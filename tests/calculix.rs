@@ -229,9 +229,9 @@ fn one_triangle_is_mirrored_and_the_diagonal_kept_once() {
     let want = [[4.0, -1.0, 0.0], [-1.0, 5.0, -2.0], [0.0, -2.0, 6.0]];
     for p in [&upper, &lower] {
         let a = read_matrix(p, 3).unwrap();
-        for i in 0..3 {
-            for j in 0..3 {
-                assert_eq!(entry(&a, i, j), want[i][j], "{} ({i}, {j})", p.display());
+        for (i, row) in want.iter().enumerate() {
+            for (j, &w) in row.iter().enumerate() {
+                assert_eq!(entry(&a, i, j), w, "{} ({i}, {j})", p.display());
             }
         }
         assert_eq!(a.as_ref().val().len(), 7);
@@ -406,4 +406,34 @@ fn job_files_are_found_beside_the_deck() {
     assert_eq!(f.mas, Path::new("/x/y/blade.mas"));
     assert_eq!(f.dof, Path::new("/x/y/blade.dof"));
     assert_eq!(CalculixFiles::of_job(Path::new("/x/y/blade")), f);
+}
+
+/// Reading speed on a synthetic ccx-format file of a 60,000-DoF model (banded, 30 entries a
+/// column in the upper triangle: 1.8 M lines, about 55 MB). Not run by default:
+/// `cargo test --test calculix -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn read_speed_60k_dofs() {
+    use std::io::Write;
+    let d = scratch("speed");
+    let (n, band) = (60_000usize, 30usize);
+    let sti = d.join("big.sti");
+    let mut w = std::io::BufWriter::new(std::fs::File::create(&sti).unwrap());
+    let mut lines = 0usize;
+    for j in 1..=n {
+        for i in j.saturating_sub(band - 1).max(1)..=j {
+            let v = if i == j { 1.0e6 + j as f64 } else { -1.0e3 / (1 + j - i) as f64 };
+            writeln!(w, "{i} {j} {v:20.13e}").unwrap();
+            lines += 1;
+        }
+    }
+    w.flush().unwrap();
+    drop(w);
+    let bytes = std::fs::metadata(&sti).unwrap().len();
+    let t = std::time::Instant::now();
+    let a = read_matrix(&sti, n).unwrap();
+    let s = t.elapsed().as_secs_f64();
+    assert_eq!(a.as_ref().val().len(), 2 * lines - n);
+    println!("read {lines} lines ({:.1} MB) of a {n}-DoF matrix in {s:.2} s ({:.0} MB/s)", bytes as f64 / 1e6, bytes as f64 / 1e6 / s);
+    let _ = std::fs::remove_dir_all(&d);
 }
