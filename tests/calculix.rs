@@ -269,6 +269,11 @@ fn bad_matrix_files_name_the_file_and_the_line() {
     assert!(parse_err(read_matrix(&p, 3)).2.contains("not finite"));
     let p = write(&d, "blank.sti", &good.replace("2 2 5.0e+00\n", "2 2 5.0e+00\n\n"));
     assert_eq!(parse_err(read_matrix(&p, 3)).1, 4);
+    // a size far beyond the file: refused before n columns are allocated
+    let p = write(&d, "small.sti", good);
+    let (_, line, reason) = parse_err(read_matrix(&p, usize::MAX));
+    assert_eq!(line, 6);
+    assert!(reason.contains("diagonal entry (4, 4)"), "{reason}");
     // a missing file, a directory
     match read_matrix(&d.join("none.sti"), 3) {
         Err(JpError::Io { path, .. }) => assert!(path.ends_with("none.sti")),
@@ -326,7 +331,8 @@ fn a_broken_job_names_the_file_and_the_line() {
     std::fs::write(d.join("block.dof"), short).unwrap();
     let (path, line, reason) = parse_err(read_model(&d.join("block.inp")));
     assert!(path.ends_with("block.sti"));
-    let first = std::fs::read_to_string(d.join("block.sti")).unwrap().lines().position(|l| l.split_whitespace().take(2).any(|f| f == n.to_string())).unwrap() + 1;
+    let first =
+        std::fs::read_to_string(d.join("block.sti")).unwrap().lines().position(|l| l.split_whitespace().take(2).any(|f| f == n.to_string())).unwrap() + 1;
     assert_eq!(line, first, "{reason}");
     assert!(reason.contains(&format!("{n} out of range 1..={}", n - 1)), "{reason}");
     // truncated .mas
@@ -349,7 +355,9 @@ fn a_broken_job_names_the_file_and_the_line() {
     // a set name the deck does not have
     let m = read_model(&deck("block")).unwrap();
     match m.node_set("NOPE") {
-        Err(JpError::InvalidValue { what, reason }) => assert!(what.contains("NOPE") && reason.contains("block.inp") && reason.contains("TIP"), "{what}: {reason}"),
+        Err(JpError::InvalidValue { what, reason }) => {
+            assert!(what.contains("NOPE") && reason.contains("block.inp") && reason.contains("TIP"), "{what}: {reason}")
+        }
         other => panic!("{other:?}"),
     }
 }
@@ -385,6 +393,12 @@ fn bad_decks_name_the_file_and_the_line() {
         assert_eq!(line, want_line, "{tail}: {reason}");
         assert!(reason.contains(want), "{tail}: {reason}");
     }
+    // an *INCLUDE inside a *NODE card: ccx reads the included lines in place, so the card goes
+    // on in the include (and after it); Fortran reals without the exponent letter
+    write(&d, "more.nod", "4, 1.5+1, 2.-1, -3.0D+00\n");
+    let m = read_mesh(&write(&d, "nodes.inp", &format!("{head}*INCLUDE, INPUT=more.nod\n5, 0, 0, 1\n"))).unwrap();
+    assert_eq!(m.coords[&4], [15.0, 0.2, -3.0]);
+    assert_eq!(m.node_set("NALL").unwrap(), &[1, 2, 3, 4, 5]);
     // an error inside an include names the include and its line
     write(&d, "sets.msh", "** sets\n*NSET, NSET=S\n1, 2\n*NSET, NSET=T\nNOSUCHSET\n");
     let (path, line, reason) = parse_err(read_mesh(&write(&d, "inc.inp", &format!("{head}*INCLUDE, INPUT=\"sets.msh\"\n"))));

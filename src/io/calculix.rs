@@ -171,11 +171,7 @@ fn node_set_of<'a>(sets: &'a BTreeMap<String, Vec<i64>>, name: &str, deck: &Path
             let known: Vec<&str> = sets.keys().map(String::as_str).collect();
             Err(JpError::invalid(
                 format!("node set '{name}'"),
-                format!(
-                    "{} defines no such set (its node sets: {})",
-                    deck.display(),
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
-                ),
+                format!("{} defines no such set (its node sets: {})", deck.display(), if known.is_empty() { "none".to_string() } else { known.join(", ") }),
             ))
         }
     }
@@ -280,7 +276,14 @@ impl Lines {
             return Err(ioerr(path, format!("is not a regular file (a device or a pipe), expected the {what}")));
         }
         let file = std::fs::File::open(path).map_err(|e| ioerr(path, format!("cannot open the {what}: {e}")))?;
-        Ok(Lines { reader: BufReader::with_capacity(1 << 16, file), buf: Vec::with_capacity(256), line: 0, unterminated: false, len: meta.len(), path: path.to_path_buf() })
+        Ok(Lines {
+            reader: BufReader::with_capacity(1 << 16, file),
+            buf: Vec::with_capacity(256),
+            line: 0,
+            unterminated: false,
+            len: meta.len(),
+            path: path.to_path_buf(),
+        })
     }
 
     /// The next line's number (1-based) and text without its end of line (`\n` or `\r\n`),
@@ -399,7 +402,11 @@ fn parse_entry(path: &Path, ln: usize, l: &[u8], n: usize) -> Result<(usize, usi
     let index = |s: &[u8], what: &str| -> Result<usize> {
         let i = parse_digits(s).ok_or_else(|| perr(path, ln, format!("{what} '{}' is not a whole number", show(s))))?;
         if i == 0 || i > n as u64 {
-            let hint = if i as u128 <= 2 * n as u128 && i > 0 { "; a cyclic symmetric model stores matrices twice the size of its .dof, which is not supported" } else { "" };
+            let hint = if i as u128 <= 2 * n as u128 && i > 0 {
+                "; a cyclic symmetric model stores matrices twice the size of its .dof, which is not supported"
+            } else {
+                ""
+            };
             return Err(perr(path, ln, format!("{what} {i} out of range 1..={n} (the size given by the .dof){hint}")));
         }
         Ok(i as usize - 1)
@@ -446,6 +453,14 @@ pub fn read_matrix(path: &Path, n: usize) -> Result<SparseMat> {
         return Err(perr(path, last, "the file ends inside this line (no end of line after the last entry): truncated?"));
     }
     drop(lines);
+    if entries.len() < n {
+        // fewer entries than diagonals: name the first missing one before allocating n columns
+        let mut diag: Vec<usize> = entries.iter().filter(|e| e.0 == e.1).map(|e| e.0).collect();
+        diag.sort_unstable();
+        diag.dedup();
+        let missing = diag.iter().enumerate().find(|&(k, &d)| k != d).map_or(diag.len(), |(k, _)| k);
+        return Err(missing_diagonal(path, last, missing));
+    }
 
     // full storage: a diagonal entry once, an off-diagonal one in both columns
     let mut col_ptr = vec![0usize; n + 1];
@@ -496,15 +511,24 @@ pub fn read_matrix(path: &Path, n: usize) -> Result<SparseMat> {
     for c in 0..n {
         let (s, e) = (col_ptr[c], col_ptr[c + 1]);
         if row_idx[s..e].binary_search(&c).is_err() {
-            return Err(perr(
-                path,
-                last + 1,
-                format!("the file ends without the diagonal entry ({}, {}): ccx writes every diagonal entry, so the file is incomplete (truncated?) or not ccx's", c + 1, c + 1),
-            ));
+            return Err(missing_diagonal(path, last, c));
         }
     }
     let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
     Ok(SparseColMat::new(symbolic, val))
+}
+
+/// The error for a missing diagonal entry `c` (0-based), at the end of a file of `last` lines.
+fn missing_diagonal(path: &Path, last: usize, c: usize) -> JpError {
+    perr(
+        path,
+        last + 1,
+        format!(
+            "the file ends without the diagonal entry ({}, {}): ccx writes every diagonal entry, so the file is incomplete (truncated?) or not ccx's",
+            c + 1,
+            c + 1
+        ),
+    )
 }
 
 /// The error for an index pair `{a, b}` (0-based) given twice: the file is read again to name
@@ -556,10 +580,17 @@ struct NsetCard {
 }
 
 /// What the data lines being read belong to.
+#[derive(Default)]
 enum Block {
+    #[default]
     Skip,
-    Node { set: Option<String> },
-    Nset { card: usize, generate: bool },
+    Node {
+        set: Option<String>,
+    },
+    Nset {
+        card: usize,
+        generate: bool,
+    },
 }
 
 /// Everything gathered in one pass over the deck and its includes.
@@ -570,6 +601,11 @@ struct Deck {
     /// `*NODE, NSET=` sets, taken before every `*NSET` card (as in ccx).
     node_card_sets: BTreeMap<String, Vec<i64>>,
     cards: Vec<NsetCard>,
+    /// The card whose data lines come next; an `*INCLUDE` leaves it as it is (ccx reads the
+    /// included lines in place, so a `*NODE` card's data may continue in an include).
+    block: Block,
+    /// Inside `*HEADING` text.
+    heading: bool,
 }
 
 /// Reads the node coordinates and node sets of a CalculiX deck (see the module doc for the
@@ -587,7 +623,7 @@ pub fn read_mesh(path: &Path) -> Result<CalculixMesh> {
     if deck.coords.is_empty() {
         return Err(perr(path, 0, "the deck defines no node (no *NODE card with data lines)"));
     }
-    let Deck { files, coords, node_card_sets, cards } = deck;
+    let Deck { files, coords, node_card_sets, cards, .. } = deck;
     let mut sets: BTreeMap<String, BTreeSet<i64>> = node_card_sets.into_iter().map(|(k, v)| (k, v.into_iter().collect())).collect();
     for card in cards {
         let mut add: BTreeSet<i64> = BTreeSet::new();
@@ -664,13 +700,24 @@ fn parse_int(b: &[u8]) -> Option<i64> {
     Some(if neg { -v } else { v })
 }
 
-/// A Fortran real (`f20.0` as ccx reads it): empty is 0, `d`/`D` exponents are accepted.
+/// A Fortran real (`f20.0` as ccx reads it): empty is 0; besides Rust's forms, a `d`/`D`
+/// exponent (`1.5d3`) and an exponent without its letter (`1.5+3`, `2.-4`) are read.
 fn parse_real(b: &[u8]) -> Option<f64> {
     if b.is_empty() {
         return Some(0.0);
     }
     let s = std::str::from_utf8(b).ok()?;
-    let v: f64 = if s.bytes().any(|c| c == b'd' || c == b'D') { s.replace(['d', 'D'], "e").parse().ok()? } else { s.parse().ok()? };
+    if let Ok(v) = s.parse::<f64>() {
+        return v.is_finite().then_some(v);
+    }
+    let mut t = s.replace(['d', 'D'], "e");
+    if !t.contains(['e', 'E']) {
+        // a sign after the mantissa starts the exponent
+        if let Some(k) = t.char_indices().skip(1).find(|&(k, c)| (c == '+' || c == '-') && t.as_bytes()[k - 1] != b'e').map(|(k, _)| k) {
+            t.insert(k, 'e');
+        }
+    }
+    let v: f64 = t.parse().ok()?;
     // Rust also reads "inf" and "nan", which Fortran's f20.0 does not take from a deck
     v.is_finite().then_some(v)
 }
@@ -680,24 +727,24 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
     let mut lines = Lines::open(path, what)?;
     let fi = deck.files.len();
     deck.files.push(path.to_path_buf());
-    let mut block = Block::Skip;
-    let mut heading = false;
     let mut buf: Vec<u8> = Vec::with_capacity(256);
     while let Some((ln, raw)) = lines.next_line()? {
-        if heading && !(raw.first() == Some(&b'*') && raw.get(1) != Some(&b'*')) {
+        if deck.heading && !(raw.first() == Some(&b'*') && raw.get(1) != Some(&b'*')) {
             continue; // *HEADING text, left alone
         }
-        heading = false;
+        deck.heading = false;
         strip_blanks(raw, &mut buf);
         if buf.is_empty() || buf.starts_with(b"**") {
             continue;
         }
         if buf[0] == b'*' {
-            block = Block::Skip;
             let mut parts = buf.split(|&c| c == b',');
             let key = parts.next().unwrap_or_default().to_ascii_uppercase();
+            if key != b"*INCLUDE" {
+                deck.block = Block::Skip;
+            }
             match key.as_slice() {
-                b"*HEADING" => heading = true,
+                b"*HEADING" => deck.heading = true,
                 b"*INCLUDE" => {
                     let name = include_name(&buf, path, ln)?;
                     if depth + 1 > MAX_INCLUDE_DEPTH {
@@ -721,7 +768,7 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
                         }
                         // ccx 2.20 ignores any other parameter of *NODE (with a warning)
                     }
-                    block = Block::Node { set };
+                    deck.block = Block::Node { set };
                 }
                 b"*NSET" => {
                     let mut name = None;
@@ -736,18 +783,19 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
                     }
                     let name = name.ok_or_else(|| perr(path, ln, "*NSET without NSET=name"))?;
                     deck.cards.push(NsetCard { name, items: Vec::new() });
-                    block = Block::Nset { card: deck.cards.len() - 1, generate };
+                    deck.block = Block::Nset { card: deck.cards.len() - 1, generate };
                 }
                 _ => {}
             }
             continue;
         }
-        match &block {
+        match &deck.block {
             Block::Skip => {}
             Block::Node { set } => {
                 let mut f = buf.split(|&c| c == b',');
                 let id_field = f.next().unwrap_or_default();
-                let id = parse_int(id_field).ok_or_else(|| perr(path, ln, format!("*NODE: node number '{}' is not a whole number of at most {MAX_ID_CHARS} digits", show(id_field))))?;
+                let id = parse_int(id_field)
+                    .ok_or_else(|| perr(path, ln, format!("*NODE: node number '{}' is not a whole number of at most {MAX_ID_CHARS} digits", show(id_field))))?;
                 if id < 1 {
                     return Err(perr(path, ln, format!("*NODE: node number {id} (node numbers are 1 or more)")));
                 }
@@ -755,7 +803,16 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
                 for (k, xk) in x.iter_mut().enumerate() {
                     let Some(s) = f.next() else { break };
                     if s.len() > MAX_COORD_CHARS {
-                        return Err(perr(path, ln, format!("*NODE {id}: coordinate {} '{}' has {} characters; ccx reads only the first {MAX_COORD_CHARS} (Fortran f20.0)", k + 1, show(s), s.len())));
+                        return Err(perr(
+                            path,
+                            ln,
+                            format!(
+                                "*NODE {id}: coordinate {} '{}' has {} characters; ccx reads only the first {MAX_COORD_CHARS} (Fortran f20.0)",
+                                k + 1,
+                                show(s),
+                                s.len()
+                            ),
+                        ));
                     }
                     *xk = parse_real(s).ok_or_else(|| perr(path, ln, format!("*NODE {id}: coordinate {} '{}' is not a number", k + 1, show(s))))?;
                 }
@@ -772,14 +829,22 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
                     for (k, what) in ["start", "end", "step"].iter().enumerate() {
                         let s = f.next().unwrap_or_default();
                         v[k] = if s.is_empty() {
-                            if k == 2 { 1 } else { return Err(perr(path, ln, format!("*NSET, GENERATE: the {what} is missing (start, end[, step])"))) }
+                            if k == 2 {
+                                1
+                            } else {
+                                return Err(perr(path, ln, format!("*NSET, GENERATE: the {what} is missing (start, end[, step])")));
+                            }
                         } else {
                             parse_int(s).ok_or_else(|| perr(path, ln, format!("*NSET, GENERATE: {what} '{}' is not a whole number", show(s))))?
                         };
                     }
                     let [start, end, step] = v;
                     if start < 1 || end < start || step < 1 {
-                        return Err(perr(path, ln, format!("*NSET, GENERATE: {start}, {end}, {step} is not a range start, end, step with 1 <= start <= end and step >= 1")));
+                        return Err(perr(
+                            path,
+                            ln,
+                            format!("*NSET, GENERATE: {start}, {end}, {step} is not a range start, end, step with 1 <= start <= end and step >= 1"),
+                        ));
                     }
                     deck.cards[card].items.push(Item::Range { start, end, step, loc });
                 } else {
@@ -795,7 +860,7 @@ fn read_deck_file(path: &Path, depth: usize, deck: &mut Deck) -> Result<()> {
             }
         }
     }
-    if lines.unterminated && matches!(block, Block::Node { .. } | Block::Nset { .. }) {
+    if lines.unterminated && matches!(deck.block, Block::Node { .. } | Block::Nset { .. }) {
         // a deck cut inside a *NODE or *NSET line would silently lose data
         return Err(perr(path, lines.line, "the file ends inside this line (no end of line): truncated?"));
     }
