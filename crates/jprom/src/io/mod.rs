@@ -8,6 +8,7 @@
 //! Writing is checked to the end: the last buffered bytes are flushed and the file synced,
 //! and any error is returned ([`write_file`]).
 
+pub mod calculix;
 pub mod documents;
 pub mod dof_map;
 pub mod locate;
