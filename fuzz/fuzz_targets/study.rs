@@ -1,7 +1,7 @@
 //! Study files, TOML and JSON (parsing and validation only: nothing is run).
 #![no_main]
 
-use jprom::app::study::Study;
+use jprom_cli::study::Study;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -9,7 +9,7 @@ fn jprom(args: &[&str]) -> (i32, String, String) {
 }
 
 fn scratch(name: &str) -> std::path::PathBuf {
-    let d = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/cli-tests");
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-tests");
     std::fs::create_dir_all(&d).unwrap();
     d.join(name)
 }
@@ -35,7 +35,7 @@ fn malformed_study_is_rejected_naming_the_key() {
 
 #[test]
 fn demo_study_is_valid() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/demo_study.toml");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/demo_study.toml");
     let (code, out, err) = jprom(&["check", path]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("valid"));

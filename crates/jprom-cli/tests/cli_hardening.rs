@@ -13,7 +13,7 @@ fn jprom(args: &[&str]) -> (i32, String, String) {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/cli-hardening").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-hardening").join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -120,7 +120,7 @@ fn a_run_exits_non_zero_when_an_output_cannot_be_written() {
 
 #[test]
 fn a_full_standard_output_is_a_failure_not_a_panic() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/demo_study.toml");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/demo_study.toml");
     let o = Command::new(env!("CARGO_BIN_EXE_jprom"))
         .args(["check", path])
         .stdout(Stdio::from(std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap()))

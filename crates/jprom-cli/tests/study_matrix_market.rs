@@ -85,7 +85,7 @@ fn export(fe: &BladeFe, dir: &Path, extra: &str) -> (PathBuf, (f64, f64)) {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/mm-study-tests").join(name)
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("mm-study-tests").join(name)
 }
 
 fn max_abs_diff(a: &faer::Mat<f64>, b: &faer::Mat<f64>) -> (f64, f64) {

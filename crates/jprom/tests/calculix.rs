@@ -4,7 +4,7 @@
 //! Lanczos match those `ccx` printed in its `.dat` to 1e-6 relative. Then bad input: each an
 //! error naming the file and the line.
 
-use jprom::cms::{lowest_modes, SparseCholesky};
+use jprom::linalg::lanczos::{lowest_modes, SparseCholesky};
 use jprom::error::JpError;
 use jprom::io::calculix::*;
 use std::collections::BTreeSet;

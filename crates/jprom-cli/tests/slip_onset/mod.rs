@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 pub const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
 pub fn scratch(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/slip-onset-tests").join(name)
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("slip-onset-tests").join(name)
 }
 
 /// The plate of the tests: coarse enough for the test suite.
