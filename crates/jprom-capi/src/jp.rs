@@ -1,23 +1,24 @@
-//! Jacobian Projection from C: predicting a `jprom_basis` (method.md §7-8), sweeping the FR or
+//! Jacobian Projection from C: predicting a `jprom_basis` (docs/formulation.md §8.7-8.8), sweeping the FR or
 //! NLR reduced model (§9) with the error predictor `e*` (§10) at every point.
 
 use super::guard::{check_capacity, ffi_guard, finite_arg, out_arg, path_arg, slice_out};
 use super::handle::{self, Handle};
 use super::model::jprom_model;
 use super::solve::{
-    cancelled_status, hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_solution, jprom_sweep_options, jprom_sweep_result, progress_adapter,
+    hbm_options, jprom_hbm_options, jprom_progress_fn, jprom_solution, jprom_sweep_options, jprom_sweep_result, progress_adapter,
     sweep_options, Origin,
 };
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
+use super::versioned::{read_options, write_defaults, Versioned};
 use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::actual_error;
 use jprom::rom;
-use jprom::hbm::{HbmOptions, PointSolution, SweepEnd};
+use jprom::hbm::{HbmOptions, PointSolution};
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
-use jprom::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
+use jprom::rom::{SweepRecord, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
 use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
@@ -39,17 +40,28 @@ impl Handle for jprom_basis {
     }
 }
 
-/// Full-DoF reduced model (FR): `q_h = Φ_h p_h` on all DoFs.
-pub const JPROM_ROM_FR: c_int = 0;
-/// Nonlinear-DoF reduced model (NLR) on the condensed system.
-pub const JPROM_ROM_NLR: c_int = 1;
+/// The kind of reduced model, passed as the `int kind` of `jprom_rom_sweep` and
+/// `jprom_rom_sweep_adaptive`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum jprom_rom_kind {
+    /// Full-DoF reduced model (FR): `q_h = Φ_h p_h` on all DoFs.
+    JPROM_ROM_FR = 0,
+    /// Nonlinear-DoF reduced model (NLR) on the condensed system.
+    JPROM_ROM_NLR = 1,
+}
 
 /// Predicts a JP basis for `model` without any full-order solution: boundary conditions
 /// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
 /// `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
 /// with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
 /// AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
+///
+/// Deprecated since 0.2 (kept, as every released function): `jprom_basis_predict_opts` takes
+/// the same settings in a `jprom_jp_options` that can grow.
 #[no_mangle]
+#[deprecated(since = "0.2.0", note = "use jprom_basis_predict_opts")]
 pub unsafe extern "C" fn jprom_basis_predict(
     model: *const jprom_model,
     options: *const jprom_hbm_options,
@@ -61,9 +73,8 @@ pub unsafe extern "C" fn jprom_basis_predict(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let (hopts, _) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
-        let hopts = hbm_options(o)?;
         let band = (finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?);
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let mut p = PredictionOptions::new(band);
@@ -135,23 +146,18 @@ pub unsafe extern "C" fn jprom_rom_sweep(
     user_data: *mut c_void,
     out: *mut *mut jprom_sweep_result,
 ) -> jprom_status {
-    let mut cancelled = false;
-    let status = ffi_guard!({
+    ffi_guard!({
         let m = handle::get(model, "model")?;
         let b = &handle::get(basis, "basis")?.basis;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
-        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let (hopts, _) = hbm_options(options)?;
+        let sopts = sweep_options(sweep_opts)?;
         let out = out_arg(out, "out")?;
-        let hopts = hbm_options(o)?;
-        let sopts = sweep_options(so)?;
         let rom = build_rom(m, b, rom_kind(kind)?, &hopts)?;
         let mut on_point = progress_adapter(callback, user_data);
         let (result, errors) = rom::sweep_with_predicted_error(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
-        cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = jprom_sweep_result::wrap(result, errors, Vec::new(), Origin::Reduced);
+        *out = jprom_sweep_result::wrap(SweepRecord { sweep: result, predicted_errors: errors, corrections: Vec::new() }, Origin::Reduced);
         Ok(())
-    });
-    cancelled_status(status, cancelled)
+    })
 }
 
 /// Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a
@@ -161,9 +167,10 @@ pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_s
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let e = s
+            .record
             .predicted_errors
             .get(index)
-            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("no predicted error for point {index} (full-order sweep, or index >= {})", s.predicted_errors.len())))?;
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("no predicted error for point {index} (full-order sweep, or index >= {})", s.record.predicted_errors.len())))?;
         *out_arg(out, "out")? = *e.get(h).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("harmonic {h} > H = {}", e.len().saturating_sub(1))))?;
         Ok(())
     })
@@ -172,8 +179,8 @@ pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_s
 /// `kind` of the C API as a [`RomKind`].
 fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
     match kind {
-        JPROM_ROM_FR => Ok(RomKind::Fr),
-        JPROM_ROM_NLR => Ok(RomKind::Nlr),
+        k if k == jprom_rom_kind::JPROM_ROM_FR as c_int => Ok(RomKind::Fr),
+        k if k == jprom_rom_kind::JPROM_ROM_NLR as c_int => Ok(RomKind::Nlr),
         other => Err(FfiError::new(JPROM_INVALID_VALUE, format!("kind must be JPROM_ROM_FR (0) or JPROM_ROM_NLR (1), got {other}"))),
     }
 }
@@ -216,13 +223,17 @@ pub struct jprom_jp_options {
     pub max_gamma: f64,
 }
 
-/// Writes the defaults into `*out`.
-#[no_mangle]
-pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) -> jprom_status {
-    ffi_guard!({
+/// `struct_size` of version 1 of `jprom_jp_options`.
+pub const JPROM_JP_OPTIONS_V1_SIZE: usize = 72;
+const _: () = assert!(std::mem::size_of::<jprom_jp_options>() == JPROM_JP_OPTIONS_V1_SIZE);
+
+impl Versioned for jprom_jp_options {
+    const NAME: &'static str = "jprom_jp_options";
+    const SIZES: &'static [usize] = &[JPROM_JP_OPTIONS_V1_SIZE];
+    fn defaults() -> Self {
         let p = PredictionOptions::new((0.0, 0.0));
         let a = AdaptiveOptions::default();
-        *out_arg(out, "out")? = jprom_jp_options {
+        jprom_jp_options {
             struct_size: std::mem::size_of::<jprom_jp_options>(),
             gamma: p.gamma,
             n_samples: p.n_samples,
@@ -232,18 +243,27 @@ pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) ->
             max_corrections: a.max_corrections,
             gamma_growth: a.gamma_growth,
             max_gamma: a.max_gamma,
-        };
-        Ok(())
-    })
+        }
+    }
 }
 
-/// The `jp_options` argument: not NULL, of this version's size, with finite and consistent
-/// values.
-unsafe fn jp_options_arg<'a>(p: *const jprom_jp_options) -> Result<&'a jprom_jp_options, FfiError> {
-    let o = p.as_ref().ok_or_else(|| FfiError::null("jp_options"))?;
-    if o.struct_size != std::mem::size_of::<jprom_jp_options>() {
-        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_jp_options.struct_size: fill the options with jprom_jp_options_default"));
-    }
+/// Writes the defaults of version 1 of `jprom_jp_options` into `*out`. In `jprom.h` this name
+/// is a macro for `jprom_jp_options_init(out, sizeof *out)`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) -> jprom_status {
+    ffi_guard!({ write_defaults(out, JPROM_JP_OPTIONS_V1_SIZE) })
+}
+
+/// Writes the defaults into the `struct_size` bytes of `*out` (pass `sizeof *out`; a released
+/// size, else `JPROM_BAD_SIZE`) and sets its `struct_size`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_jp_options_init(out: *mut jprom_jp_options, struct_size: usize) -> jprom_status {
+    ffi_guard!({ write_defaults(out, struct_size) })
+}
+
+/// The `jp_options` argument: any released version, with finite and consistent values.
+unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<jprom_jp_options, FfiError> {
+    let o = read_options(p, "jp_options")?;
     finite_arg("gamma", o.gamma)?;
     finite_arg("threshold", o.threshold)?;
     finite_arg("gamma_growth", o.gamma_growth)?;
@@ -290,19 +310,18 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let (hopts, _) = hbm_options(options)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
-        let hopts = hbm_options(o)?;
         let band = band_arg(omega_lo, omega_hi)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
-        let (basis, _) = predict_basis(&coords, &prediction_options(jo, &hopts, band))?;
+        let (basis, _) = predict_basis(&coords, &prediction_options(&jo, &hopts, band))?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
 }
 
-/// The basis of a full-order solution's own boundary conditions (method.md §6): the contact
+/// The basis of a full-order solution's own boundary conditions (docs/formulation.md §8): the contact
 /// stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
 /// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
 /// ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
@@ -322,24 +341,23 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
     ffi_guard!({
         let m = handle::get(model, "model")?;
         let sol = handle::get(solution, "solution")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let (hopts, _) = hbm_options(options)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         if sol.origin == Origin::Reduced {
             return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
         }
-        let hopts = hbm_options(o)?;
         let band = band_arg(omega_lo, omega_hi)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
-        let bopts = BasisOptions { modes: mode_options(jo, band), gamma: jo.gamma };
+        let bopts = BasisOptions { modes: mode_options(&jo, band), gamma: jo.gamma };
         let basis = JpBasis::from_solution(&coords, &sol.point, &plan, &bopts)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
 }
 
-/// The self-correcting reduced sweep, jprom's default JP workflow (method.md §7, §10): predicts
+/// The self-correcting reduced sweep, jprom's default JP workflow (docs/formulation.md): predicts
 /// a basis for the band `[sweep_opts->omega_start, omega_end]` along the stuck mode, sweeps the
 /// reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
 /// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
@@ -349,8 +367,8 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
 ///
 /// `callback` (may be NULL) is called after each converged point of each reduced sweep;
 /// `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
-/// that sweep stops, no further correction is made, and the call returns `JPROM_CANCELLED`
-/// with `*out` (and `*basis_out`) written all the same, as `jprom_sweep`.
+/// that sweep stops, no further correction is made, and the call returns `JPROM_OK` with the
+/// sweep so far (end reason `JPROM_SWEEP_CANCELLED`) and the basis, as `jprom_sweep`.
 ///
 /// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
 /// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
@@ -367,18 +385,15 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
     out: *mut *mut jprom_sweep_result,
     basis_out: *mut *mut jprom_basis,
 ) -> jprom_status {
-    let mut cancelled = false;
-    let status = ffi_guard!({
+    ffi_guard!({
         let m = handle::get(model, "model")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
-        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let (hopts, _) = hbm_options(options)?;
+        let sopts = sweep_options(sweep_opts)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         let kind = rom_kind(kind)?;
-        let hopts = hbm_options(o)?;
-        let sopts = sweep_options(so)?;
         // the JP band is the band swept, whichever way it is swept
-        let pred = prediction_options(jo, &hopts, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
+        let pred = prediction_options(&jo, &hopts, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
         let aopts = AdaptiveOptions {
             kind,
             threshold: jo.threshold,
@@ -398,29 +413,33 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
             adapter(p)
         };
         let a = adaptive_sweep_with_progress(&m.model, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
-        cancelled = a.sweep.end == SweepEnd::StoppedByCaller;
-        *out = jprom_sweep_result::wrap(a.sweep, a.predicted_errors, a.corrections, Origin::Reduced);
+        *out = jprom_sweep_result::wrap(SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections }, Origin::Reduced);
         if let Some(b) = basis_out.as_mut() {
             *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis: a.basis });
         }
         Ok(())
-    });
-    cancelled_status(status, cancelled)
+    })
 }
 
-/// A correction of `jprom_rom_sweep_adaptive`: modes regenerated from the reduced solution at
-/// the point of worst `e*_1` (the value is that point's omega, rad/s).
-pub const JPROM_CORRECTION_REGENERATED: c_int = 0;
-/// A correction of `jprom_rom_sweep_adaptive`: modes predicted with a larger `gamma` (the
-/// value is the new gamma).
-pub const JPROM_CORRECTION_GAMMA_INCREASED: c_int = 1;
+/// The kind of a correction of `jprom_rom_sweep_adaptive`, written to the `int kind` of
+/// `jprom_sweep_correction`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum jprom_correction_kind {
+    /// Modes regenerated from the reduced solution at the point of worst `e*_1` (the value is
+    /// that point's omega, rad/s).
+    JPROM_CORRECTION_REGENERATED = 0,
+    /// Modes predicted with a larger `gamma` (the value is the new gamma).
+    JPROM_CORRECTION_GAMMA_INCREASED = 1,
+}
 
 /// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 /// other sweep, and when the first basis was good enough).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
     ffi_guard!({
-        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.corrections.len();
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.corrections.len();
         Ok(())
     })
 }
@@ -445,16 +464,17 @@ pub unsafe extern "C" fn jprom_sweep_correction(
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let c = s
+            .record
             .corrections
             .get(index)
-            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.corrections.len())))?;
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))?;
         if len > 0 {
             check_capacity("sizes", c.sizes.len(), len)?;
         }
         let buf = slice_out(sizes, if len > 0 { c.sizes.len() } else { 0 }, "sizes")?;
         let (k, v) = match c.kind {
-            CorrectionKind::Regenerated { from_omega } => (JPROM_CORRECTION_REGENERATED, from_omega),
-            CorrectionKind::GammaIncreased { gamma } => (JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+            CorrectionKind::Regenerated { from_omega } => (jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int, from_omega),
+            CorrectionKind::GammaIncreased { gamma } => (jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int, gamma),
         };
         buf.copy_from_slice(&c.sizes[..buf.len()]);
         if let Some(x) = kind.as_mut() {
@@ -473,7 +493,7 @@ pub unsafe extern "C" fn jprom_sweep_correction(
     })
 }
 
-/// The actual error `e_h`, `h = 0..H` (method.md §10, paper (44)) of a reduced solution: the
+/// The actual error `e_h`, `h = 0..H` (docs/formulation.md §10.1, paper (44)) of a reduced solution: the
 /// contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
 /// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
 /// full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
@@ -499,9 +519,8 @@ pub unsafe extern "C" fn jprom_rom_actual_error(
         let b = &handle::get(basis, "basis")?.basis;
         let rs = handle::get(rom_solution, "rom_solution")?;
         let fs = handle::get(full_solution, "full_solution")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let (hopts, _) = hbm_options(options)?;
         let kind = rom_kind(kind)?;
-        let hopts = hbm_options(o)?;
         check_capacity("buf", hopts.harmonics + 1, len)?;
         let buf = slice_out(buf, hopts.harmonics + 1, "buf")?;
         if rs.origin == Origin::FullOrder {

@@ -18,6 +18,7 @@ pub mod limits;
 pub mod model;
 pub mod solve;
 pub mod status;
+mod versioned;
 
 pub use jp::*;
 pub use limits::*;

@@ -1,4 +1,4 @@
-//! `jprom_model`: building a structural model (method.md §1) from C.
+//! `jprom_model`: building a structural model (docs/formulation.md §1) from C.
 //!
 //! A model starts from `M` and `K` and is completed by setters; each setter validates the
 //! whole model and leaves it unchanged on failure.
@@ -329,7 +329,7 @@ fn push_contact(model: &mut Model, c: Contact) -> Result<()> {
     Ok(())
 }
 
-/// Adds a 3D friction contact (method.md §4). `dofs_a[3]`: the global DoFs (x, y, z) of node
+/// Adds a 3D friction contact (docs/formulation.md §4.2). `dofs_a[3]`: the global DoFs (x, y, z) of node
 /// `a`; `dofs_b[3]`: those of node `b`, or NULL for a contact with ground. `frame[9]`:
 /// row-major rotation whose rows are the unit vectors `t1`, `t2`, `n` (normal pointing into
 /// the contact), so the local displacement is `w = R (x_a - x_b)`. Tangential stiffnesses

@@ -6,14 +6,17 @@ use super::handle::{self, Handle};
 use super::model::jprom_model;
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
+use super::versioned::{read_options, write_defaults, Versioned};
 use jprom::condensation::CondensedSystem;
 use jprom::hbm::{self, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
-use jprom::rom::Correction;
+use jprom::io::Document;
+use jprom::rom::SweepRecord;
 use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
 /// Settings of one harmonic-balance solve. Fill with `jprom_hbm_options_default`, then change
-/// fields. `struct_size` must stay `sizeof(jprom_hbm_options)` (lets the struct grow).
+/// fields. `struct_size` says which version of the struct the caller was compiled with (see
+/// the ABI policy in the README): leave it as the default function wrote it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
@@ -29,13 +32,15 @@ pub struct jprom_hbm_options {
     pub residual_tolerance: f64,
     /// Newton iterations per point, all attempts (load stepping included) together (default 400).
     pub max_iterations: usize,
-    /// 1 (default): solve on the contact DoFs after condensing the linear ones (method.md §5);
+    /// 1 (default): solve on the contact DoFs after condensing the linear ones (docs/formulation.md §7);
     /// 0: solve on all DoFs.
     pub condensed: c_int,
 }
 
 /// Settings of a frequency sweep by pseudo-arclength continuation (rad/s). Fill with
-/// `jprom_sweep_options_default`.
+/// `jprom_sweep_options_default`. Version 1 ends at `max_points`
+/// (`JPROM_SWEEP_OPTIONS_V1_SIZE` bytes); version 2 (jprom 0.2) adds `max_omega_step` and
+/// `max_angle`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 #[allow(non_camel_case_types)]
@@ -49,6 +54,57 @@ pub struct jprom_sweep_options {
     pub max_step: f64,
     /// Most points (default 5000).
     pub max_points: usize,
+    /// Version 2: largest frequency increment of one step as a fraction of the band (default
+    /// 0.02, in (0, 1]).
+    pub max_omega_step: f64,
+    /// Version 2: largest angle (radians) between the tangents of two successive points
+    /// (default 0.15); a step that turns more is retried shorter.
+    pub max_angle: f64,
+}
+
+/// `struct_size` of version 1 of `jprom_sweep_options` (up to `max_points`).
+pub const JPROM_SWEEP_OPTIONS_V1_SIZE: usize = 56;
+/// `struct_size` of version 1 of `jprom_hbm_options`.
+pub const JPROM_HBM_OPTIONS_V1_SIZE: usize = 48;
+
+// A released prefix ends where the next version's fields begin, so reading a prefix never
+// reads a new field's bytes from an old caller's padding.
+const _: () = assert!(std::mem::offset_of!(jprom_sweep_options, max_omega_step) == JPROM_SWEEP_OPTIONS_V1_SIZE);
+const _: () = assert!(std::mem::size_of::<jprom_hbm_options>() == JPROM_HBM_OPTIONS_V1_SIZE);
+
+impl Versioned for jprom_hbm_options {
+    const NAME: &'static str = "jprom_hbm_options";
+    const SIZES: &'static [usize] = &[JPROM_HBM_OPTIONS_V1_SIZE];
+    fn defaults() -> Self {
+        let d = HbmOptions::default();
+        jprom_hbm_options {
+            struct_size: std::mem::size_of::<jprom_hbm_options>(),
+            harmonics: d.harmonics,
+            nt: 0,
+            residual_tolerance: d.residual_tolerance,
+            max_iterations: d.max_iterations,
+            condensed: 1,
+        }
+    }
+}
+
+impl Versioned for jprom_sweep_options {
+    const NAME: &'static str = "jprom_sweep_options";
+    const SIZES: &'static [usize] = &[JPROM_SWEEP_OPTIONS_V1_SIZE, std::mem::size_of::<jprom_sweep_options>()];
+    fn defaults() -> Self {
+        let d = SweepOptions::default();
+        jprom_sweep_options {
+            struct_size: std::mem::size_of::<jprom_sweep_options>(),
+            omega_start: d.omega_start,
+            omega_end: d.omega_end,
+            initial_step: d.initial_step,
+            min_step: d.min_step,
+            max_step: d.max_step,
+            max_points: d.max_points,
+            max_omega_step: d.max_omega_step,
+            max_angle: d.max_angle,
+        }
+    }
 }
 
 /// Progress callback of `jprom_sweep`: called on the calling thread after each converged
@@ -82,17 +138,14 @@ pub struct jprom_solution {
 #[allow(non_camel_case_types)]
 pub struct jprom_sweep_result {
     magic: u64,
-    pub(crate) result: SweepResult,
-    /// `e*_h` per point for reduced sweeps (empty for full-order ones).
-    pub(crate) predicted_errors: Vec<Vec<f64>>,
-    /// Corrections of the basis made by `jprom_rom_sweep_adaptive` (empty otherwise).
-    pub(crate) corrections: Vec<Correction>,
+    /// The points, with `e*` and the corrections of a reduced sweep (the core's record).
+    pub(crate) record: SweepRecord,
     pub(crate) origin: Origin,
 }
 
 impl jprom_sweep_result {
-    pub(crate) fn wrap(result: SweepResult, predicted_errors: Vec<Vec<f64>>, corrections: Vec<Correction>, origin: Origin) -> *mut jprom_sweep_result {
-        handle::into_raw(jprom_sweep_result { magic: Self::MAGIC, result, predicted_errors, corrections, origin })
+    pub(crate) fn wrap(record: SweepRecord, origin: Origin) -> *mut jprom_sweep_result {
+        handle::into_raw(jprom_sweep_result { magic: Self::MAGIC, record, origin })
     }
 }
 
@@ -118,45 +171,40 @@ impl Handle for jprom_sweep_result {
     }
 }
 
-/// Writes the defaults into `*out`.
+/// Writes the defaults of version 1 of `jprom_hbm_options` into `*out`. In `jprom.h` this
+/// name is a macro for `jprom_hbm_options_init(out, sizeof *out)`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_hbm_options_default(out: *mut jprom_hbm_options) -> jprom_status {
-    ffi_guard!({
-        let d = HbmOptions::default();
-        *out_arg(out, "out")? = jprom_hbm_options {
-            struct_size: std::mem::size_of::<jprom_hbm_options>(),
-            harmonics: d.harmonics,
-            nt: 0,
-            residual_tolerance: d.residual_tolerance,
-            max_iterations: d.max_iterations,
-            condensed: 1,
-        };
-        Ok(())
-    })
+    ffi_guard!({ write_defaults(out, JPROM_HBM_OPTIONS_V1_SIZE) })
 }
 
-/// Writes the defaults into `*out` (band 0..0: set `omega_start` and `omega_end`).
+/// Writes the defaults into the `struct_size` bytes of `*out` (pass `sizeof *out`; it must be
+/// the size of a released version of the struct, else `JPROM_BAD_SIZE`) and sets its
+/// `struct_size`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_hbm_options_init(out: *mut jprom_hbm_options, struct_size: usize) -> jprom_status {
+    ffi_guard!({ write_defaults(out, struct_size) })
+}
+
+/// Writes the defaults of version 1 of `jprom_sweep_options` into `*out` (band 0..0: set
+/// `omega_start` and `omega_end`). In `jprom.h` this name is a macro for
+/// `jprom_sweep_options_init(out, sizeof *out)`, which also writes the newer fields.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_options_default(out: *mut jprom_sweep_options) -> jprom_status {
-    ffi_guard!({
-        let d = SweepOptions::default();
-        *out_arg(out, "out")? = jprom_sweep_options {
-            struct_size: std::mem::size_of::<jprom_sweep_options>(),
-            omega_start: d.omega_start,
-            omega_end: d.omega_end,
-            initial_step: d.initial_step,
-            min_step: d.min_step,
-            max_step: d.max_step,
-            max_points: d.max_points,
-        };
-        Ok(())
-    })
+    ffi_guard!({ write_defaults(out, JPROM_SWEEP_OPTIONS_V1_SIZE) })
 }
 
-pub(crate) fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError> {
-    if o.struct_size != std::mem::size_of::<jprom_hbm_options>() {
-        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_hbm_options.struct_size: fill the options with jprom_hbm_options_default"));
-    }
+/// Writes the defaults into the `struct_size` bytes of `*out` (pass `sizeof *out`; a released
+/// size, else `JPROM_BAD_SIZE`) and sets its `struct_size`. Band 0..0: set `omega_start` and
+/// `omega_end`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_options_init(out: *mut jprom_sweep_options, struct_size: usize) -> jprom_status {
+    ffi_guard!({ write_defaults(out, struct_size) })
+}
+
+/// The `options` argument of a solve: any released version, checked.
+pub(crate) unsafe fn hbm_options(p: *const jprom_hbm_options) -> Result<(HbmOptions, jprom_hbm_options), FfiError> {
+    let o = read_options(p, "options")?;
     let opts = HbmOptions {
         harmonics: o.harmonics,
         nt: if o.nt == 0 { None } else { Some(o.nt) },
@@ -165,13 +213,12 @@ pub(crate) fn hbm_options(o: &jprom_hbm_options) -> Result<HbmOptions, FfiError>
         ..HbmOptions::default()
     };
     opts.validate()?;
-    Ok(opts)
+    Ok((opts, o))
 }
 
-pub(crate) fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, FfiError> {
-    if o.struct_size != std::mem::size_of::<jprom_sweep_options>() {
-        return Err(FfiError::new(JPROM_BAD_SIZE, "jprom_sweep_options.struct_size: fill the options with jprom_sweep_options_default"));
-    }
+/// The `sweep_opts` argument: any released version, checked.
+pub(crate) unsafe fn sweep_options(p: *const jprom_sweep_options) -> Result<SweepOptions, FfiError> {
+    let o = read_options(p, "sweep_opts")?;
     let s = SweepOptions {
         omega_start: o.omega_start,
         omega_end: o.omega_end,
@@ -179,6 +226,8 @@ pub(crate) fn sweep_options(o: &jprom_sweep_options) -> Result<SweepOptions, Ffi
         min_step: o.min_step,
         max_step: o.max_step,
         max_points: o.max_points,
+        max_omega_step: o.max_omega_step,
+        max_angle: o.max_angle,
         ..SweepOptions::default()
     };
     s.validate()?;
@@ -216,9 +265,8 @@ pub unsafe extern "C" fn jprom_solve_point(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
+        let (opts, o) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
-        let opts = hbm_options(o)?;
         let sys = system(m, &opts, o.condensed)?;
         let point = hbm::solve_point(sys.as_ref(), finite_arg("omega", omega)?, None, &opts)?;
         *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::FullOrder });
@@ -228,9 +276,9 @@ pub unsafe extern "C" fn jprom_solve_point(
 
 /// Sweeps `[omega_start, omega_end]` by pseudo-arclength continuation.
 ///
-/// `callback` may be NULL. If it returns nonzero the sweep stops: the call returns
-/// `JPROM_CANCELLED` AND still writes `*out` with the points computed so far (free it).
-/// If continuation fails before the end of the band, the call returns `JPROM_OK` with the
+/// `callback` may be NULL. If it returns nonzero the sweep stops there: the call returns
+/// `JPROM_OK` with the points computed so far and the end reason `JPROM_SWEEP_CANCELLED`.
+/// If continuation fails before the end of the band, the call also returns `JPROM_OK` with the
 /// points found; `jprom_sweep_reached_end` tells whether the band was covered, and
 /// `jprom_sweep_failure_copy` why not. If not even the first point converges, the status is
 /// that error and `*out` is not written.
@@ -243,32 +291,17 @@ pub unsafe extern "C" fn jprom_sweep(
     user_data: *mut c_void,
     out: *mut *mut jprom_sweep_result,
 ) -> jprom_status {
-    let mut cancelled = false;
-    let status = ffi_guard!({
+    ffi_guard!({
         let m = handle::get(model, "model")?;
-        let o = options.as_ref().ok_or_else(|| FfiError::null("options"))?;
-        let so = sweep_opts.as_ref().ok_or_else(|| FfiError::null("sweep_opts"))?;
+        let (opts, o) = hbm_options(options)?;
+        let sopts = sweep_options(sweep_opts)?;
         let out = out_arg(out, "out")?;
-        let opts = hbm_options(o)?;
-        let sopts = sweep_options(so)?;
         let sys = system(m, &opts, o.condensed)?;
         let mut on_point = progress_adapter(callback, user_data);
         let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
-        cancelled = result.end == SweepEnd::StoppedByCaller;
-        *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::FullOrder);
+        *out = jprom_sweep_result::wrap(SweepRecord::full_order(result), Origin::FullOrder);
         Ok(())
-    });
-    cancelled_status(status, cancelled)
-}
-
-/// A sweep stopped by its callback: `JPROM_CANCELLED` (with a message) in place of `JPROM_OK`;
-/// the sweep handle has been written all the same.
-pub(crate) fn cancelled_status(status: jprom_status, cancelled: bool) -> jprom_status {
-    if status == JPROM_OK && cancelled {
-        super::status::set_last_error("sweep stopped by the progress callback");
-        return JPROM_CANCELLED;
-    }
-    status
+    })
 }
 
 /// Adapts the C progress callback to the sweep's `on_point` closure.
@@ -310,7 +343,7 @@ pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep_result) -> jpr
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
     ffi_guard!({
-        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.result.points.len();
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.sweep.points.len();
         Ok(())
     })
 }
@@ -350,7 +383,7 @@ impl From<SweepEnd> for jprom_sweep_end {
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_end_reason(sweep: *const jprom_sweep_result, out: *mut jprom_sweep_end) -> jprom_status {
     ffi_guard!({
-        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.result.end.into();
+        *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.sweep.end.into();
         Ok(())
     })
 }
@@ -375,41 +408,34 @@ pub extern "C" fn jprom_sweep_end_name(reason: c_int) -> *const c_char {
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
     ffi_guard!({
-        *out_arg(out, "out")? = (handle::get(sweep, "sweep")?.result.end == SweepEnd::ReachedEnd) as c_int;
+        *out_arg(out, "out")? = (handle::get(sweep, "sweep")?.record.sweep.end == SweepEnd::ReachedEnd) as c_int;
         Ok(())
     })
 }
 
-/// Copies why the sweep ended early (empty if it did not) into `buf`, like
-/// `jprom_last_error_copy`.
+/// Copies why the sweep ended early (empty if it did not) into `buf`, with the convention of
+/// `jprom_last_error_copy`: NUL-terminated, `*written` = full length, `JPROM_BAD_SIZE` if
+/// truncated.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
-        let text = s.result.failure.clone().unwrap_or_default();
-        if !written.is_null() {
-            *written = text.len();
+        let text = s.record.sweep.failure.clone().unwrap_or_default();
+        match crate::status::copy_text(text.as_bytes(), buf, len, written) {
+            jprom_status::JPROM_OK => Ok(()),
+            jprom_status::JPROM_NULL_ARGUMENT => Err(FfiError::null("buf")),
+            status => Err(FfiError::new(status, format!("buf: {len} bytes hold {} of the text's {} (and the NUL)", len.saturating_sub(1), text.len()))),
         }
-        let b = slice_out(buf as *mut u8, len, "buf")?;
-        if let Some((last, body)) = b.split_last_mut() {
-            let n = text.len().min(body.len());
-            body[..n].copy_from_slice(&text.as_bytes()[..n]);
-            if n < body.len() {
-                body[n] = 0;
-            } else {
-                *last = 0;
-            }
-        }
-        Ok(())
     })
 }
 
 unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a PointSolution, FfiError> {
     let s = handle::get(sweep, "sweep")?;
-    s.result
+    s.record
+        .sweep
         .points
         .get(index)
-        .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("point index {index} >= {}", s.result.points.len())))
+        .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("point index {index} >= {}", s.record.sweep.points.len())))
 }
 
 /// A point of a sweep as a new, independent `jprom_solution` (free it).
@@ -628,21 +654,35 @@ pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut
 pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
-        jprom::io::save_json("sweep", &s.result, &path_arg(path, "path")?)?;
+        let path = path_arg(path, "path")?;
+        // a reduced sweep keeps its e* and corrections; a full-order one is a plain sweep file
+        if s.origin == Origin::Reduced || s.record.is_reduced() {
+            jprom::io::save_json(SweepRecord::KIND, &s.record, &path)?;
+        } else {
+            jprom::io::save_json(SweepResult::KIND, &s.record.sweep, &path)?;
+        }
         Ok(())
     })
 }
 
 /// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
 /// `jprom_solution_load_json`. `*out` is written only on success; free
-/// it with `jprom_sweep_free`. The file holds the points only: a reduced sweep's predicted
-/// errors (`e*`) are not saved, so a loaded sweep has none.
+/// it with `jprom_sweep_free`. A reduced sweep comes back with its predicted errors (`e*`)
+/// and corrections.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
-        let result: SweepResult = jprom::io::load_document(&path_arg(path, "path")?)?;
-        *out = jprom_sweep_result::wrap(result, Vec::new(), Vec::new(), Origin::Unknown);
+        let path = path_arg(path, "path")?;
+        let text = jprom::io::read_text(&path)?;
+        let name = path.display().to_string();
+        let handle = if jprom::io::document_kind(&text).as_deref() == Some(SweepRecord::KIND) {
+            jprom_sweep_result::wrap(jprom::io::parse_document::<SweepRecord>(&text, &name)?, Origin::Reduced)
+        } else {
+            let result: SweepResult = jprom::io::parse_document(&text, &name)?;
+            jprom_sweep_result::wrap(SweepRecord::full_order(result), Origin::Unknown)
+        };
+        *out = handle;
         Ok(())
     })
 }

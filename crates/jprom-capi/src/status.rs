@@ -141,30 +141,36 @@ pub extern "C" fn jprom_last_error_message() -> *const c_char {
 /// `JPROM_NULL_ARGUMENT` if `buf` is NULL while `len > 0`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_last_error_copy(buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
-    let outcome = std::panic::catch_unwind(|| {
-        LAST_ERROR.with(|m| {
-            let m = m.borrow();
-            let bytes = m.as_bytes();
-            if !written.is_null() {
-                // SAFETY: caller passes a valid pointer or NULL.
-                unsafe { *written = bytes.len() };
-            }
-            if len == 0 {
-                return if bytes.is_empty() { jprom_status::JPROM_OK } else { jprom_status::JPROM_BAD_SIZE };
-            }
-            if buf.is_null() {
-                return jprom_status::JPROM_NULL_ARGUMENT;
-            }
-            let n = bytes.len().min(len - 1);
-            // SAFETY: caller guarantees `buf` holds `len` bytes; n + 1 <= len.
-            unsafe {
-                std::ptr::copy_nonoverlapping(bytes.as_ptr() as *const c_char, buf, n);
-                *buf.add(n) = 0;
-            }
-            if n < bytes.len() { jprom_status::JPROM_BAD_SIZE } else { jprom_status::JPROM_OK }
-        })
-    });
+    let outcome = std::panic::catch_unwind(|| LAST_ERROR.with(|m| unsafe { copy_text(m.borrow().as_bytes(), buf, len, written) }));
     outcome.unwrap_or(jprom_status::JPROM_PANIC)
+}
+
+/// The one convention of every text-copying function (`jprom_*_copy`), like `snprintf`:
+/// `*written` (if not NULL) receives the full length in bytes without the NUL; when `len > 0`
+/// the first `len - 1` bytes at most are written and NUL-terminated. Returns `JPROM_OK` if the
+/// whole text fitted, `JPROM_BAD_SIZE` if it was truncated (`*written >= len`), and
+/// `JPROM_NULL_ARGUMENT` if `buf` is NULL while `len > 0`. Sets no error message.
+///
+/// # Safety
+/// `buf` must hold `len` writable bytes (or be NULL), `written` be valid or NULL.
+pub(crate) unsafe fn copy_text(text: &[u8], buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
+    if !written.is_null() {
+        *written = text.len();
+    }
+    if len == 0 {
+        return if text.is_empty() { jprom_status::JPROM_OK } else { jprom_status::JPROM_BAD_SIZE };
+    }
+    if buf.is_null() {
+        return jprom_status::JPROM_NULL_ARGUMENT;
+    }
+    let n = text.len().min(len - 1);
+    std::ptr::copy_nonoverlapping(text.as_ptr() as *const c_char, buf, n);
+    *buf.add(n) = 0;
+    if n < text.len() {
+        jprom_status::JPROM_BAD_SIZE
+    } else {
+        jprom_status::JPROM_OK
+    }
 }
 
 /// Name of a status code ("JPROM_OK", ...), or "JPROM_UNKNOWN_STATUS". Static storage.
@@ -192,7 +198,7 @@ pub extern "C" fn jprom_status_name(status: c_int) -> *const c_char {
 /// tests/ffi_header.rs).
 pub const JPROM_VERSION_MAJOR: u32 = 0;
 /// Minor version.
-pub const JPROM_VERSION_MINOR: u32 = 1;
+pub const JPROM_VERSION_MINOR: u32 = 2;
 /// Patch version.
 pub const JPROM_VERSION_PATCH: u32 = 0;
 

@@ -108,7 +108,7 @@ pub struct Study {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(try_from = "RawModel", into = "RawModel")]
 pub enum ModelSpec {
-    /// The built-in shrouded blade (method.md §11).
+    /// The built-in shrouded blade (docs/formulation.md §12).
     Blade {
         refinement: usize,
         cb_modes: usize,
@@ -357,7 +357,7 @@ impl NodalLoad {
     }
 }
 
-/// Contact parameters per node (defaults: method.md §11).
+/// Contact parameters per node (defaults: docs/formulation.md §12).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContactSpec {

@@ -1,5 +1,5 @@
 //! The built-in blade benchmark case shared by `tests/jp_blade.rs` and `examples/jp_report.rs`
-//! (method.md §11): Craig-Bampton with 50 fixed-interface modes, 18 node-to-ground contacts,
+//! (docs/formulation.md §12): Craig-Bampton with 50 fixed-interface modes, 18 node-to-ground contacts,
 //! band 2140-2190 Hz around the stuck first bending mode, the stuck level `alpha_ST`, and the
 //! full-order (condensed) solution at resonance.
 #![allow(dead_code)]

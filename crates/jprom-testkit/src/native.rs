@@ -14,13 +14,16 @@ pub fn root() -> PathBuf {
 
 /// `target/debug`, after making sure `libjprom.so` and `libjprom.a` are built from the current
 /// sources (the C API crate's library is not built by `cargo test`). Runs
-/// `cargo build -p jprom-capi` once per test binary.
+/// `cargo build --workspace --lib --tests` once per test binary: with the tests in the build,
+/// Cargo resolves the dependencies' features as `cargo test` does, so nothing but the C library
+/// itself is compiled again (`cargo build -p jprom-capi` alone would build every dependency a
+/// second time with other features).
 pub fn lib_dir() -> PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT
         .get_or_init(|| {
-            let out = Command::new(env!("CARGO")).args(["build", "-p", "jprom-capi"]).current_dir(root()).output().expect("run cargo build -p jprom-capi");
-            assert!(out.status.success(), "cargo build -p jprom-capi failed:\n{}", String::from_utf8_lossy(&out.stderr));
+            let out = Command::new(env!("CARGO")).args(["build", "--workspace", "--lib", "--tests"]).current_dir(root()).output().expect("run cargo build --workspace --lib --tests");
+            assert!(out.status.success(), "cargo build --workspace --lib --tests failed:\n{}", String::from_utf8_lossy(&out.stderr));
             let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root().join("target"));
             target.join("debug")
         })
@@ -38,8 +41,10 @@ pub fn compile_c(sources: &[&Path], exe: &str, extra: &[&str]) -> PathBuf {
     let lib = lib_dir();
     let out = scratch(exe);
     let mut cmd = Command::new("gcc");
-    cmd.args(["-Wall", "-Werror", "-std=c11", "-O1"]).arg(format!("-I{}", root().join("include").display()));
-    cmd.args(sources).args(extra).arg("-o").arg(&out);
+    // include directories in `extra` come first, so that a test can compile against another header
+    let (includes, others): (Vec<&str>, Vec<&str>) = extra.iter().partition(|a| a.starts_with("-I"));
+    cmd.args(["-Wall", "-Werror", "-std=c11", "-O1"]).args(includes).arg(format!("-I{}", root().join("include").display()));
+    cmd.args(sources).args(others).arg("-o").arg(&out);
     cmd.arg(format!("-L{}", lib.display())).arg("-ljprom").arg(format!("-Wl,-rpath,{}", lib.display())).args(["-lm", "-lpthread"]);
     let o = cmd.output().expect("run gcc");
     assert!(o.status.success(), "gcc failed:\n{}", String::from_utf8_lossy(&o.stderr));

@@ -23,7 +23,7 @@ fn blade(refinement: usize) -> (Model, (f64, f64), usize) {
     let f_st = cb.natural_frequencies_hz(true).unwrap()[0];
     let model = cb.to_model(Damping::from_modal_ratio(0.002, 2.0 * PI * f_st)).unwrap();
     let nc = model.contacts.len();
-    // The benchmark band of method.md §11 (2140-2190 Hz around 2165 Hz), around this mesh's
+    // The benchmark band of docs/formulation.md §12 (2140-2190 Hz around 2165 Hz), around this mesh's
     // stuck first bending.
     (model, (2.0 * PI * (f_st - 25.0), 2.0 * PI * (f_st + 25.0)), nc)
 }

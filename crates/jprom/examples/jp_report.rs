@@ -1,4 +1,4 @@
-//! JP on the built-in blade (method.md §11): predicted bases (stuck mode as generating shape)
+//! JP on the built-in blade (docs/formulation.md §12): predicted bases (stuck mode as generating shape)
 //! per level and gamma, the self-correcting sweep, contact energies, and sweep timings FO
 //! (condensed) vs FR vs NLR. `cargo run --example jp_report`; also writes target/jp_report.md.
 

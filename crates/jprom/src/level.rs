@@ -1,4 +1,4 @@
-//! Excitation levels (method.md §11): the forcing level `alpha = |f_E^0| / |f_E^1|` is measured
+//! Excitation levels (docs/formulation.md §12): the forcing level `alpha = |f_E^0| / |f_E^1|` is measured
 //! against `alpha_ST`, the level at which the linear stuck response at the stuck resonance just
 //! reaches the friction limit at its first contact. Studies give levels as `alpha / alpha_ST`:
 //! `1` is the onset of slip, `1/10` partial slip, `1/3000` gross slip on the built-in blade.

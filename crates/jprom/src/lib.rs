@@ -2,7 +2,7 @@
 //!
 //! Steady-state forced response of structures with friction contacts by harmonic balance
 //! (HBM) with alternating frequency-time (AFT) contact forces, and its reduction by
-//! Jacobian Projection (JP). The formulation is written down in `method.md` (shipped in the
+//! Jacobian Projection (JP). The formulation is written down in `docs/formulation.md` (shipped in the
 //! repository's shared notes); equation numbers `(n)` in doc comments refer to the JP paper.
 //!
 //! Map of the crate, following the method:

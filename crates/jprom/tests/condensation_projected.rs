@@ -1,4 +1,4 @@
-//! The projected condensation of the NLR model (method.md §5, §9) against the dense one: for
+//! The projected condensation of the NLR model (docs/formulation.md §7, §9) against the dense one: for
 //! random contact-row bases, `P^T H_h P` and `P^T g_h` of [`CondensedSystem`] equal
 //! [`ProjectedCondensation::linear_part`] at several frequencies and harmonics, with a model
 //! that has linear DoFs (a chain with two node-to-ground contacts and a node pair).

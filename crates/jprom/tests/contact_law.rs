@@ -1,4 +1,4 @@
-//! The contact laws through the AFT against closed forms (method.md §4): the Jenkins
+//! The contact laws through the AFT against closed forms (docs/formulation.md §4.2): the Jenkins
 //! element under `u = a cos(theta)` (energy and first harmonic), the 3D element driven along
 //! `t1` at constant normal load (same closed forms), circular gross slip, and the unilateral
 //! normal spring (clipped cosine).
@@ -51,7 +51,7 @@ fn jenkins_matches_closed_form_and_converges_with_nt() {
     let jk = Jk { kt: 3.0, fs: 0.9, a: 1.0 }; // x_s = 0.3 a: partial slip
     let law = ContactLaw::Jenkins { kt: jk.kt, mu: 0.45, normal_load: 2.0 };
     let (c1, s1) = jk.c1_s1();
-    assert!(s1 < 0.0, "method.md: s1 < 0 for a force resisting u = a cos");
+    assert!(s1 < 0.0, "docs/formulation.md: s1 < 0 for a force resisting u = a cos");
     println!("Jenkins, closed form: W = {:.6}, c1 = {c1:.6}, s1 = {s1:.6}", jk.energy());
     println!("{:>6} {:>12} {:>12} {:>12} {:>12}", "Nt", "c1", "s1", "err W", "err harm1");
     let mut prev = (f64::INFINITY, f64::INFINITY);

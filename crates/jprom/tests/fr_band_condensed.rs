@@ -1,7 +1,7 @@
 //! The band-condensed FR basis (`rom::band_condensed_basis`, the default rows of `FrRom::new`):
 //! its linear-DoF rows are the dynamic condensation of its contact rows at the band edges, so
 //! with every contact direction in the basis FR is the condensed full-order system itself at
-//! those two frequencies (method.md §5), whatever the contact states.
+//! those two frequencies (docs/formulation.md §7), whatever the contact states.
 
 use jprom_testkit::chain as jp_support;
 

@@ -1,4 +1,4 @@
-//! JP on the built-in blade (issue 5 acceptance; method.md §11): Craig-Bampton with 50 modes,
+//! JP on the built-in blade (issue 5 acceptance; docs/formulation.md §12): Craig-Bampton with 50 modes,
 //! 18 node-to-ground contacts, band 2140-2190 Hz around the stuck first bending mode (2165 Hz).
 //!
 //! `alpha_ST` is found from the linear stuck response (tests/blade_support::alpha_stuck) and

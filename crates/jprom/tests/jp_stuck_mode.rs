@@ -1,4 +1,4 @@
-//! The stuck mode that generates the predicted boundary conditions (method.md §7) on a refined
+//! The stuck mode that generates the predicted boundary conditions (docs/formulation.md §8.8) on a refined
 //! blade (refinement 2: 50 contact nodes, 227 CB DoFs). faer 0.24's symmetric eigen solver
 //! with vectors returns a NaN eigenvalue on this matrix (its eigenvalue-only path is right);
 //! the prediction then picked a mode the forcing does not excite and sampled one amplitude.

@@ -94,7 +94,7 @@ fn rom_sweep_through_c_matches_the_rust_api() {
         assert_eq!(jprom_basis_sizes(b, sizes.as_mut_ptr(), 1, &mut hh), jprom_status::JPROM_BAD_SIZE);
         let mut s = std::ptr::null_mut();
         assert_eq!(jprom_rom_sweep(m, b, 7, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_OK);
+        assert_eq!(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_OK);
         let mut n = 0;
         jprom_sweep_n_points(s, &mut n);
         assert_eq!(n, expect.points.len());
@@ -115,7 +115,7 @@ fn rom_sweep_through_c_matches_the_rust_api() {
         assert_eq!(jprom_sweep_point_predicted_error(fo, 0, 1, &mut e), jprom_status::JPROM_INVALID_VALUE);
         // FR runs too
         let mut fr = std::ptr::null_mut();
-        assert_eq!(jprom_rom_sweep(m, b, JPROM_ROM_FR, &opts, &sopts, None, std::ptr::null_mut(), &mut fr), jprom_status::JPROM_OK);
+        assert_eq!(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_FR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut fr), jprom_status::JPROM_OK);
         jprom_sweep_free(fr);
         jprom_sweep_free(fo);
         jprom_basis_free(b);
@@ -238,7 +238,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         jo.max_corrections = 3;
         let mut counts: Vec<usize> = Vec::new();
         let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
-        ok(jprom_rom_sweep_adaptive(m, JPROM_ROM_NLR, &opts, &sopts, &jo, Some(count), &mut counts as *mut _ as *mut c_void, &mut s, &mut b));
+        ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, Some(count), &mut counts as *mut _ as *mut c_void, &mut s, &mut b));
         assert_eq!(counts, per_pass.values().copied().collect::<Vec<_>>(), "points reported per pass");
         let rows = c_rows(s);
         assert_eq!(rows.len(), expect.sweep.points.len());
@@ -254,8 +254,8 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
             let mut sizes = [0usize; 2];
             ok(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 2));
             let want = match c.kind {
-                CorrectionKind::Regenerated { from_omega } => (JPROM_CORRECTION_REGENERATED, from_omega),
-                CorrectionKind::GammaIncreased { gamma } => (JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+                CorrectionKind::Regenerated { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int), from_omega),
+                CorrectionKind::GammaIncreased { gamma } => ((jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int), gamma),
             };
             assert_eq!((kind, value, before, after, sizes.to_vec()), (want.0, want.1, c.worst_error_before, c.worst_error_after, c.sizes.clone()));
             // every pointer may be NULL
@@ -263,9 +263,29 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
             assert_eq!(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
         }
         assert_eq!(jprom_sweep_correction(s, nc, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0), jprom_status::JPROM_INVALID_VALUE);
+        // saved and loaded, the reduced sweep keeps its e* and its corrections
+        let path = std::env::temp_dir().join(format!("jprom-adaptive-{}.json", std::process::id()));
+        let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        ok(jprom_sweep_save_json(s, cpath.as_ptr()));
+        assert!(std::fs::read_to_string(&path).unwrap().contains("\"kind\":\"reduced_sweep\""));
+        let mut loaded = std::ptr::null_mut();
+        ok(jprom_sweep_load_json(cpath.as_ptr(), &mut loaded));
+        assert_eq!(c_rows(loaded), rows, "omega, X1 and e*_1 after a save and a load");
+        let mut nl = 99;
+        ok(jprom_sweep_n_corrections(loaded, &mut nl));
+        assert_eq!(nl, nc);
+        for i in 0..nc {
+            let mut a = (-1, 0.0, 0.0, 0.0);
+            let mut b2 = (-1, 0.0, 0.0, 0.0);
+            ok(jprom_sweep_correction(s, i, &mut a.0, &mut a.1, &mut a.2, &mut a.3, std::ptr::null_mut(), 0));
+            ok(jprom_sweep_correction(loaded, i, &mut b2.0, &mut b2.1, &mut b2.2, &mut b2.3, std::ptr::null_mut(), 0));
+            assert_eq!(a, b2);
+        }
+        ok(jprom_sweep_free(loaded));
+        std::fs::remove_file(&path).ok();
         // the final basis is usable: a plain ROM sweep on it gives the final pass again
         let mut again = std::ptr::null_mut();
-        ok(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut again));
+        ok(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut again));
         assert_eq!(c_rows(again), rows);
         let mut zero = 99;
         ok(jprom_sweep_n_corrections(again, &mut zero));
@@ -277,7 +297,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         // the defaults, FR, no basis wanted
         let (_, _, jo) = c_options(band);
         let mut fr = std::ptr::null_mut();
-        ok(jprom_rom_sweep_adaptive(m, JPROM_ROM_FR, &opts, &sopts, &jo, None, std::ptr::null_mut(), &mut fr, std::ptr::null_mut()));
+        ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_FR as c_int, &opts, &sopts, &jo, None, std::ptr::null_mut(), &mut fr, std::ptr::null_mut()));
         let pred = PredictionOptions::new(band);
         let fr_expect = adaptive_sweep(&model, &pred, &SweepOptions::band(band.0, band.1), &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..AdaptiveOptions::default() }).unwrap();
         let fr_rows = c_rows(fr);
@@ -285,12 +305,15 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         assert_eq!(fr_rows.last().unwrap().2, fr_expect.predicted_errors.last().unwrap()[1]);
         ok(jprom_sweep_free(fr));
 
-        // a callback that stops: CANCELLED, the points so far and the basis are handed out
+        // a callback that stops: OK with end reason CANCELLED, the points so far and the basis are handed out
         unsafe extern "C" fn stop_at_third(_: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
             (index >= 2) as c_int
         }
         let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
-        assert_eq!(jprom_rom_sweep_adaptive(m, JPROM_ROM_NLR, &opts, &sopts, &jo, Some(stop_at_third), std::ptr::null_mut(), &mut s, &mut b), jprom_status::JPROM_CANCELLED);
+        assert_eq!(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, Some(stop_at_third), std::ptr::null_mut(), &mut s, &mut b), jprom_status::JPROM_OK);
+        let mut reason = jprom_sweep_end::JPROM_SWEEP_REACHED_END;
+        assert_eq!(jprom_sweep_end_reason(s, &mut reason), jprom_status::JPROM_OK);
+        assert_eq!(reason, jprom_sweep_end::JPROM_SWEEP_CANCELLED);
         let mut n = 0;
         ok(jprom_sweep_n_points(s, &mut n));
         assert_eq!(n, 3);
@@ -346,7 +369,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         ok(jprom_basis_from_solution(m, fs, &opts, &jo, band.0, band.1, &mut b));
         assert_eq!(basis_sizes(b), basis.sizes);
         let mut s = std::ptr::null_mut();
-        ok(jprom_rom_sweep(m, b, JPROM_ROM_NLR, &opts, &sopts, None, std::ptr::null_mut(), &mut s));
+        ok(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut s));
         let rows = c_rows(s);
         assert_eq!(rows.len(), expect.points.len());
         for ((w, a, _), p) in rows.iter().zip(&expect.points) {
@@ -361,7 +384,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         let mut fs0 = std::ptr::null_mut();
         ok(jprom_solve_point(m, p0.omega, &opts, &mut fs0));
         let mut e = [f64::NAN; 2];
-        ok(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs0, e.as_mut_ptr(), 2));
+        ok(jprom_rom_actual_error(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, rs, fs0, e.as_mut_ptr(), 2));
         assert_eq!(e.to_vec(), want);
         // a full-order solution on all DoFs gives the same contact forces to round-off (the
         // basis is exact here: e ~ 1e-15)
@@ -370,13 +393,13 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         let mut ff0 = std::ptr::null_mut();
         ok(jprom_solve_point(m, p0.omega, &full_opts, &mut ff0));
         let mut e_full = [f64::NAN; 2];
-        ok(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, ff0, e_full.as_mut_ptr(), 2));
+        ok(jprom_rom_actual_error(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, rs, ff0, e_full.as_mut_ptr(), 2));
         assert!(e_full.iter().zip(&e).all(|(a, b)| (a - b).abs() <= 1e-9), "{e_full:?} vs {e:?}");
         // misuse is refused, and the buffer is left alone
         let mut e_bad = [-1.0; 2];
-        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, fs0, rs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_rom_actual_error(m, b, JPROM_ROM_NLR, &opts, rs, fs0, e_bad.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
+        assert_eq!(jprom_rom_actual_error(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, fs0, rs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_rom_actual_error(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, rs, fs, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_rom_actual_error(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, rs, fs0, e_bad.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
         assert_eq!(jprom_rom_actual_error(m, b, 5, &opts, rs, fs0, e_bad.as_mut_ptr(), 2), jprom_status::JPROM_INVALID_VALUE);
         assert_eq!(e_bad, [-1.0; 2]);
         let mut b_bad = std::ptr::null_mut();

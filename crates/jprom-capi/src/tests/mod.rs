@@ -1,6 +1,9 @@
 //! The C API driven from Rust (the C, C++ and Fortran programs are in `tests/`): files,
 //! reduced models, threads, hostile input.
 
+// the deprecated functions are tested as well: they stay in the ABI
+#![allow(deprecated)]
+
 mod ffi_files;
 mod ffi_hardening;
 mod ffi_rom;

@@ -88,7 +88,10 @@ int main(void) {
     sopts.omega_end = 200.0;
     jprom_sweep_result *sweep = NULL;
     expect(jprom_model_set_output_dofs(model, dofs, 3), JPROM_OK, "output DoFs");
-    expect(jprom_sweep(model, &opts, &sopts, stop_at_third, NULL, &sweep), JPROM_CANCELLED, "callback stops the sweep");
+    expect(jprom_sweep(model, &opts, &sopts, stop_at_third, NULL, &sweep), JPROM_OK, "callback stops the sweep");
+    jprom_sweep_end reason = JPROM_SWEEP_REACHED_END;
+    expect(jprom_sweep_end_reason(sweep, &reason), JPROM_OK, "end reason of a cancelled sweep");
+    if (reason != JPROM_SWEEP_CANCELLED) { printf("FAIL cancelled sweep's end reason %d\n", (int)reason); failures++; }
     size_t np = 0;
     expect(jprom_sweep_n_points(sweep, &np), JPROM_OK, "points of a cancelled sweep");
     if (np != 3) { printf("FAIL cancelled sweep kept %zu points, expected 3\n", np); failures++; }
@@ -170,7 +173,10 @@ int main(void) {
     jprom_jp_options_default(&jo);
     expect(jprom_basis_predict_opts(jm, &opts, &jo, NAN, 160.0, &basis), JPROM_INVALID_VALUE, "NaN band");
     if (basis != NULL || rom != NULL) { printf("FAIL basis or sweep written on failure\n"); failures++; }
-    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, stop_at_third, NULL, &rom, &basis), JPROM_CANCELLED, "callback stops the adaptive sweep");
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, stop_at_third, NULL, &rom, &basis), JPROM_OK, "callback stops the adaptive sweep");
+    reason = JPROM_SWEEP_REACHED_END;
+    expect(jprom_sweep_end_reason(rom, &reason), JPROM_OK, "end reason of a cancelled adaptive sweep");
+    if (reason != JPROM_SWEEP_CANCELLED) { printf("FAIL cancelled adaptive sweep's end reason %d\n", (int)reason); failures++; }
     np = 0;
     expect(jprom_sweep_n_points(rom, &np), JPROM_OK, "points of a cancelled adaptive sweep");
     if (np != 3 || basis == NULL) { printf("FAIL cancelled adaptive sweep kept %zu points, basis %p\n", np, (void *)basis); failures++; }

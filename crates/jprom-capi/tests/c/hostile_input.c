@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+/* calls the deprecated functions too: they stay in the ABI and must keep working */
+#define JPROM_NO_DEPRECATION_WARNINGS
 #include "jprom.h"
 
 static int failures = 0;

@@ -1,5 +1,5 @@
 //! Real discrete Fourier transforms between harmonic coefficients and `Nt` time samples
-//! (method.md §3), by precomputed cos/sin tables or by rustfft.
+//! (docs/formulation.md §4), by precomputed cos/sin tables or by rustfft.
 //!
 //! Normalisation: `x(t_j) = c_0 + sum_h (c_{2h-1} cos(h t_j) + c_{2h} sin(h t_j))`,
 //! `t_j = 2 pi j / Nt`, and forward `c_0 = mean(x)`, `c_{2h-1} = (2/Nt) sum x cos`,

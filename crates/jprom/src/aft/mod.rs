@@ -1,5 +1,5 @@
 //! Alternating frequency-time (AFT) evaluation of the contact forces and of their analytical
-//! Jacobian (method.md §3).
+//! Jacobian (docs/formulation.md §4).
 //!
 //! Harmonic coefficients use the real layout `k = 0` (static), `k = 2h - 1` (cos `h`),
 //! `k = 2h` (sin `h`), `h = 1..=H`, so `2H + 1` coefficients per coordinate:
@@ -13,7 +13,7 @@
 //!   coordinates: entry `k * n_w + offset_c + i`.
 //!
 //! `F` is the element force (`T1, T2, N` for 3D), positive when it resists `w`; the force on
-//! the structure is `-F`. So `dF/dw` is the contact stiffness `K̂` of method.md §2.
+//! the structure is `-F`. So `dF/dw` is the contact stiffness `K̂` of docs/formulation.md §2.
 
 mod fourier;
 
@@ -21,7 +21,7 @@ pub use fourier::{AftBackend, TABLES_MAX_H};
 
 use crate::contact::jenkins::Jenkins;
 use crate::contact::law::Friction3D;
-use crate::contact::{ContactLaw, ContactState};
+use crate::contact::{ContactLaw, ContactState, SampleLaw};
 use crate::error::{JpError, Result};
 use fourier::Fourier;
 use rustfft::num_complex::Complex;
@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 
 /// Maximum number of passes over the period when looking for the periodic stick/slip state.
 pub const MAX_PASSES: usize = 5;
-/// Relative tolerance on the tangential state at the start of the period (method.md §4).
+/// Relative tolerance on the tangential state at the start of the period (docs/formulation.md §4.2).
 pub const PERIODIC_TOLERANCE: f64 = 1e-12;
 
 /// What one contact did over one steady-state period.
@@ -175,18 +175,21 @@ impl AftPlan {
         match law {
             ContactLaw::Friction3D { .. } => {
                 let p = Friction3D::from_law(law).expect("3D law");
-                self.contact_3d(&p, w, force, jac, cycle, ws)
+                self.contact_law(&p, w, force, jac, cycle, ws)
             }
             ContactLaw::Jenkins { .. } => {
                 let p = Jenkins::from_law(law).expect("Jenkins law");
-                self.contact_jenkins(&p, w, force, jac, cycle, ws)
+                self.contact_law(&p, w, force, jac, cycle, ws)
             }
         }
     }
 
-    fn contact_3d(
+    /// The one chain-rule loop over the period for any [`SampleLaw`] (docs/formulation.md §3):
+    /// forces sample by sample, `dT(t_j)/dw` carried from sample to sample, the dissipated
+    /// energy, then the forward transforms of the forces and of their derivatives.
+    fn contact_law<L: SampleLaw>(
         &self,
-        p: &Friction3D,
+        p: &L,
         w: &[f64],
         force: &mut [f64],
         jac: Option<&mut [f64]>,
@@ -195,36 +198,44 @@ impl AftPlan {
     ) {
         let f = &self.fourier;
         let (nt, nc) = (self.nt, f.nc);
-        let n = 3 * nc;
-        let n2 = 2 * n;
+        let m = L::TANGENTIAL;
+        let d = m + usize::from(L::HAS_NORMAL);
+        let n = d * nc;
+        // `dT(t_j)/dw` of one sample: `m` rows of `n`
+        let nm = m * n;
         let want_jac = jac.is_some();
         let AftWorkspace { x, tangential, normal, d_normal, states, g, g_start, g_tmp, acc, buf, scratch, .. } = ws;
         let (u1, rest) = x.split_at_mut(nt);
         let (u2, v) = rest.split_at_mut(nt);
         let v = &mut v[..nt];
-        f.synthesize(w, 3, 0, u1, Some((1, u2)), buf, scratch);
-        f.synthesize(w, 3, 2, v, None, buf, scratch);
+        if m == 2 {
+            f.synthesize(w, d, 0, u1, Some((1, u2)), buf, scratch);
+        } else {
+            f.synthesize(w, d, 0, u1, None, buf, scratch);
+            u2.fill(0.0);
+        }
+        if L::HAS_NORMAL {
+            f.synthesize(w, d, m, v, None, buf, scratch);
+        }
         for j in 0..nt {
-            let (nj, dj) = p.normal(v[j]);
+            let (nj, dj) = if L::HAS_NORMAL { p.normal(v[j]) } else { (0.0, 0.0) };
             normal[j] = nj;
             d_normal[j] = dj;
         }
         let basis = &f.basis;
-        let kt = p.kt;
+        let kt = p.tangential_stiffness();
 
-        // First start state: Kt u(t_{-1}) on the cone, so that full stick is exactly linear.
+        // First start state: Kt u(t_{-1}) through the corrector, so that full stick is exactly
+        // linear.
         let last = nt - 1;
         let c0 = p.correct([kt[0] * u1[last], kt[1] * u2[last]], normal[last]);
         let mut t_start = c0.force;
         if want_jac {
-            let g_tmp = &mut g_tmp[..n2];
-            g_tmp.fill(0.0);
+            let y = &mut g_tmp[..nm];
+            y.fill(0.0);
             let bl = &basis[last * nc..(last + 1) * nc];
-            for k in 0..nc {
-                g_tmp[k * 3] = kt[0] * bl[k];
-                g_tmp[n + k * 3 + 1] = kt[1] * bl[k];
-            }
-            slip_map(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, g_tmp, &mut g_start[..n2], n);
+            add_elastic::<L>(y, kt, bl, None, n);
+            slip_map::<L>(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, y, &mut g_start[..nm], n);
         }
 
         let mut dissipated = 0.0;
@@ -237,7 +248,9 @@ impl AftPlan {
                 let ts = p.predictor(t_prev, [u1[j] - u1[jm], u2[j] - u2[jm]]);
                 let c = p.correct(ts, normal[j]);
                 tangential[j] = c.force[0];
-                tangential[nt + j] = c.force[1];
+                if m == 2 {
+                    tangential[nt + j] = c.force[1];
+                }
                 states[j] = c.state;
                 if c.state == ContactState::Slip {
                     dissipated += p.slip_work(ts, c.force);
@@ -246,30 +259,22 @@ impl AftPlan {
                 scale = scale.max(norm2(c.force));
                 if want_jac {
                     // dT_j/dw from dT_{j-1}/dw (chain rule through the sample, §3).
-                    let (before, after) = g.split_at_mut(j * n2);
-                    let prev: &[f64] = if j == 0 { &g_start[..n2] } else { &before[(j - 1) * n2..] };
-                    let out = &mut after[..n2];
+                    let (before, after) = g.split_at_mut(j * nm);
+                    let prev: &[f64] = if j == 0 { &g_start[..nm] } else { &before[(j - 1) * nm..] };
+                    let out = &mut after[..nm];
                     let bj = &basis[j * nc..(j + 1) * nc];
                     let bm = &basis[jm * nc..(jm + 1) * nc];
                     match c.state {
                         ContactState::Separated => out.fill(0.0),
                         ContactState::Stick => {
                             out.copy_from_slice(prev);
-                            for k in 0..nc {
-                                let db = bj[k] - bm[k];
-                                out[k * 3] += kt[0] * db;
-                                out[n + k * 3 + 1] += kt[1] * db;
-                            }
+                            add_elastic::<L>(out, kt, bj, Some(bm), n);
                         }
                         ContactState::Slip => {
-                            let y = &mut g_tmp[..n2];
+                            let y = &mut g_tmp[..nm];
                             y.copy_from_slice(prev);
-                            for k in 0..nc {
-                                let db = bj[k] - bm[k];
-                                y[k * 3] += kt[0] * db;
-                                y[n + k * 3 + 1] += kt[1] * db;
-                            }
-                            slip_map(&c.d_predictor, &c.d_normal, d_normal[j], bj, y, out, n);
+                            add_elastic::<L>(y, kt, bj, Some(bm), n);
+                            slip_map::<L>(&c.d_predictor, &c.d_normal, d_normal[j], bj, y, out, n);
                         }
                     }
                 }
@@ -280,14 +285,20 @@ impl AftPlan {
             }
             t_start = t_prev;
             if want_jac {
-                g_start[..n2].copy_from_slice(&g[(nt - 1) * n2..nt * n2]);
+                g_start[..nm].copy_from_slice(&g[(nt - 1) * nm..nt * nm]);
             }
         }
 
         // Forward DFT of the forces.
         let (t1, t2) = tangential.split_at(nt);
-        f.analyze(t1, Some(&t2[..nt]), force, 0, 1, 3, buf, scratch);
-        f.analyze(&normal[..nt], None, force, 2, 2, 3, buf, scratch);
+        if m == 2 {
+            f.analyze(t1, Some(&t2[..nt]), force, 0, 1, d, buf, scratch);
+        } else {
+            f.analyze(t1, None, force, 0, 0, d, buf, scratch);
+        }
+        if L::HAS_NORMAL {
+            f.analyze(&normal[..nt], None, force, m, m, d, buf, scratch);
+        }
 
         if let Some(cy) = cycle {
             cy.states.clear();
@@ -295,76 +306,79 @@ impl AftPlan {
             cy.dissipated_energy = dissipated;
         }
 
-        if let Some(jac) = jac {
-            jac.fill(0.0);
-            if !f.use_fft {
-                // Tables: jac rows (k', r) = sum_j weight_k'(t_j) dF_r(t_j)/dw.
-                let (acc_t, acc_n) = acc.split_at_mut(2 * nc * n);
-                acc_t.fill(0.0);
-                let acc_n = &mut acc_n[..nc * nc];
-                acc_n.fill(0.0);
-                for j in 0..nt {
-                    if states[j] == ContactState::Separated {
-                        continue;
-                    }
-                    let fj = &f.weights[j * nc..(j + 1) * nc];
-                    let gj = &g[j * n2..(j + 1) * n2];
-                    for r in 0..2 {
-                        let gr = &gj[r * n..(r + 1) * n];
-                        for kk in 0..nc {
-                            let a = fj[kk];
-                            let row = &mut acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
-                            for (o, &gv) in row.iter_mut().zip(gr) {
-                                *o += a * gv;
-                            }
-                        }
-                    }
-                    let dn = d_normal[j];
-                    if dn != 0.0 {
-                        let bj = &basis[j * nc..(j + 1) * nc];
-                        for kk in 0..nc {
-                            let a = fj[kk] * dn;
-                            let row = &mut acc_n[kk * nc..(kk + 1) * nc];
-                            for (o, &b) in row.iter_mut().zip(bj) {
-                                *o += a * b;
-                            }
-                        }
-                    }
+        let Some(jac) = jac else { return };
+        jac.fill(0.0);
+        if !f.use_fft {
+            // Tables: jac rows (k', r) = sum_j weight_k'(t_j) dF_r(t_j)/dw.
+            let (acc_t, acc_n) = acc.split_at_mut(m * nc * n);
+            acc_t.fill(0.0);
+            let acc_n = &mut acc_n[..nc * nc];
+            acc_n.fill(0.0);
+            for j in 0..nt {
+                if states[j] == ContactState::Separated {
+                    continue;
                 }
-                for r in 0..2 {
+                let fj = &f.weights[j * nc..(j + 1) * nc];
+                let gj = &g[j * nm..(j + 1) * nm];
+                for r in 0..m {
+                    let gr = &gj[r * n..(r + 1) * n];
                     for kk in 0..nc {
-                        let row = &acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
-                        for (col, &val) in row.iter().enumerate() {
-                            jac[(kk * 3 + r) + col * n] = val;
+                        let a = fj[kk];
+                        let row = &mut acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
+                        for (o, &gv) in row.iter_mut().zip(gr) {
+                            *o += a * gv;
                         }
                     }
                 }
+                let dn = d_normal[j];
+                if L::HAS_NORMAL && dn != 0.0 {
+                    let bj = &basis[j * nc..(j + 1) * nc];
+                    for kk in 0..nc {
+                        let a = fj[kk] * dn;
+                        let row = &mut acc_n[kk * nc..(kk + 1) * nc];
+                        for (o, &b) in row.iter_mut().zip(bj) {
+                            *o += a * b;
+                        }
+                    }
+                }
+            }
+            for r in 0..m {
+                for kk in 0..nc {
+                    let row = &acc_t[(r * nc + kk) * n..(r * nc + kk + 1) * n];
+                    for (col, &val) in row.iter().enumerate() {
+                        jac[(kk * d + r) + col * n] = val;
+                    }
+                }
+            }
+            if L::HAS_NORMAL {
                 for kk in 0..nc {
                     for k in 0..nc {
-                        jac[(kk * 3 + 2) + (k * 3 + 2) * n] = acc_n[kk * nc + k];
+                        jac[(kk * d + m) + (k * d + m) * n] = acc_n[kk * nc + k];
                     }
                 }
-            } else {
-                // FFT: two real columns per complex transform.
-                for r in 0..2 {
-                    let mut col = 0;
-                    while col < n {
-                        let c2 = col + 1;
-                        let b = &mut buf[..nt];
-                        for j in 0..nt {
-                            let base = j * n2 + r * n;
-                            let im = if c2 < n { g[base + c2] } else { 0.0 };
-                            b[j] = Complex::new(g[base + col], im);
-                        }
-                        f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
-                        if c2 < n {
-                            f.unpack_pair(b, jac, r + col * n, r + c2 * n, 3);
-                        } else {
-                            f.unpack_one(b, jac, r + col * n, 3);
-                        }
-                        col += 2;
+            }
+        } else {
+            // FFT: two real columns per complex transform.
+            for r in 0..m {
+                let mut col = 0;
+                while col < n {
+                    let c2 = col + 1;
+                    let b = &mut buf[..nt];
+                    for j in 0..nt {
+                        let base = j * nm + r * n;
+                        let im = if c2 < n { g[base + c2] } else { 0.0 };
+                        b[j] = Complex::new(g[base + col], im);
                     }
+                    f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
+                    if c2 < n {
+                        f.unpack_pair(b, jac, r + col * n, r + c2 * n, d);
+                    } else {
+                        f.unpack_one(b, jac, r + col * n, d);
+                    }
+                    col += 2;
                 }
+            }
+            if L::HAS_NORMAL {
                 let mut k = 0;
                 while k < nc {
                     let k2 = k + 1;
@@ -376,143 +390,54 @@ impl AftPlan {
                     }
                     f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
                     if k2 < nc {
-                        f.unpack_pair(b, jac, 2 + (k * 3 + 2) * n, 2 + (k2 * 3 + 2) * n, 3);
+                        f.unpack_pair(b, jac, m + (k * d + m) * n, m + (k2 * d + m) * n, d);
                     } else {
-                        f.unpack_one(b, jac, 2 + (k * 3 + 2) * n, 3);
+                        f.unpack_one(b, jac, m + (k * d + m) * n, d);
                     }
                     k += 2;
                 }
             }
         }
     }
+}
 
-    fn contact_jenkins(
-        &self,
-        p: &Jenkins,
-        w: &[f64],
-        force: &mut [f64],
-        jac: Option<&mut [f64]>,
-        cycle: Option<&mut ContactCycle>,
-        ws: &mut AftWorkspace,
-    ) {
-        let f = &self.fourier;
-        let (nt, nc) = (self.nt, f.nc);
-        let n = nc;
-        let want_jac = jac.is_some();
-        let AftWorkspace { x, tangential, states, g, g_start, acc, buf, scratch, .. } = ws;
-        let u = &mut x[..nt];
-        f.synthesize(w, 1, 0, u, None, buf, scratch);
-        let basis = &f.basis;
-        let last = nt - 1;
-        let (t0, _, a0) = p.correct(p.kt * u[last]);
-        let mut t_start = t0;
-        if want_jac {
-            for k in 0..nc {
-                g_start[k] = a0 * p.kt * basis[last * nc + k];
-            }
-        }
-        let mut dissipated = 0.0;
-        for pass in 0..MAX_PASSES {
-            let mut t_prev = t_start;
-            let mut scale = t_start.abs();
-            dissipated = 0.0;
-            for j in 0..nt {
-                let jm = if j == 0 { nt - 1 } else { j - 1 };
-                let ts = p.predictor(t_prev, u[j] - u[jm]);
-                let (t, st, _) = p.correct(ts);
-                if st == ContactState::Slip {
-                    dissipated += p.slip_work(ts, t);
-                }
-                tangential[j] = t;
-                states[j] = st;
-                t_prev = t;
-                scale = scale.max(t.abs());
-                if want_jac {
-                    let (before, after) = g.split_at_mut(j * n);
-                    let prev: &[f64] = if j == 0 { &g_start[..n] } else { &before[(j - 1) * n..] };
-                    let out = &mut after[..n];
-                    if st == ContactState::Stick {
-                        for k in 0..nc {
-                            out[k] = prev[k] + p.kt * (basis[j * nc + k] - basis[jm * nc + k]);
-                        }
-                    } else {
-                        out.fill(0.0);
-                    }
-                }
-            }
-            if (t_prev - t_start).abs() <= PERIODIC_TOLERANCE * scale || pass + 1 == MAX_PASSES {
-                break;
-            }
-            t_start = t_prev;
-            if want_jac {
-                g_start[..n].copy_from_slice(&g[(nt - 1) * n..nt * n]);
-            }
-        }
-        let t = &tangential[..nt];
-        f.analyze(t, None, force, 0, 0, 1, buf, scratch);
-        if let Some(cy) = cycle {
-            cy.states.clear();
-            cy.states.extend_from_slice(&states[..nt]);
-            cy.dissipated_energy = dissipated;
-        }
-        if let Some(jac) = jac {
-            if !f.use_fft {
-                let acc = &mut acc[..nc * n];
-                acc.fill(0.0);
-                for j in 0..nt {
-                    if states[j] != ContactState::Stick {
-                        continue; // slip: dT/dw = 0
-                    }
-                    let fj = &f.weights[j * nc..(j + 1) * nc];
-                    let gj = &g[j * n..(j + 1) * n];
-                    for kk in 0..nc {
-                        let a = fj[kk];
-                        for (o, &gv) in acc[kk * n..(kk + 1) * n].iter_mut().zip(gj) {
-                            *o += a * gv;
-                        }
-                    }
-                }
-                for kk in 0..nc {
-                    for col in 0..n {
-                        jac[kk + col * n] = acc[kk * n + col];
-                    }
-                }
-            } else {
-                let mut col = 0;
-                while col < n {
-                    let c2 = col + 1;
-                    let b = &mut buf[..nt];
-                    for j in 0..nt {
-                        let im = if c2 < n { g[j * n + c2] } else { 0.0 };
-                        b[j] = Complex::new(g[j * n + col], im);
-                    }
-                    f.forward.process_with_scratch(b, &mut scratch[..f.scratch_len]);
-                    if c2 < n {
-                        f.unpack_pair(b, jac, col * n, c2 * n, 1);
-                    } else {
-                        f.unpack_one(b, jac, col * n, 1);
-                    }
-                    col += 2;
-                }
-            }
+/// `y[r n + k d + r] += kt_r (b_k - b_prev_k)`: the predictor's derivative
+/// `Kt d(u(t_j) - u(t_{j-1}))/dw` added to `y` (`b_prev` absent: `Kt du(t_j)/dw`).
+#[inline]
+fn add_elastic<L: SampleLaw>(y: &mut [f64], kt: [f64; 2], b: &[f64], b_prev: Option<&[f64]>, n: usize) {
+    let m = L::TANGENTIAL;
+    let d = m + usize::from(L::HAS_NORMAL);
+    for (k, &bk) in b.iter().enumerate() {
+        let db = match b_prev {
+            Some(bp) => bk - bp[k],
+            None => bk,
+        };
+        for r in 0..m {
+            y[r * n + k * d + r] += kt[r] * db;
         }
     }
 }
 
-/// `out = A y + dT/dN (dN/dv b_j)` on the `v` columns: the derivative through one corrector,
-/// `y = dT*/dw` (2 x n, row-major), `A = dT/dT*`.
+/// `out = A y + dT/dN (dN/dv b_j)` on the normal columns: the derivative through one corrector,
+/// `y = dT*/dw` (`m x n`, row-major), `A = dT/dT*`.
 #[inline]
-fn slip_map(a: &[[f64; 2]; 2], dt_dn: &[f64; 2], dn_dv: f64, bj: &[f64], y: &[f64], out: &mut [f64], n: usize) {
-    let (y0, y1) = y.split_at(n);
-    let (o0, o1) = out.split_at_mut(n);
-    for c in 0..n {
-        o0[c] = a[0][0] * y0[c] + a[0][1] * y1[c];
-        o1[c] = a[1][0] * y0[c] + a[1][1] * y1[c];
+fn slip_map<L: SampleLaw>(a: &[[f64; 2]; 2], dt_dn: &[f64; 2], dn_dv: f64, bj: &[f64], y: &[f64], out: &mut [f64], n: usize) {
+    let m = L::TANGENTIAL;
+    let d = m + usize::from(L::HAS_NORMAL);
+    for r in 0..m {
+        let o = &mut out[r * n..(r + 1) * n];
+        for (c, oc) in o.iter_mut().enumerate() {
+            *oc = (0..m).map(|s| a[r][s] * y[s * n + c]).sum();
+        }
     }
-    if dn_dv != 0.0 && (dt_dn[0] != 0.0 || dt_dn[1] != 0.0) {
-        for (k, &b) in bj.iter().enumerate() {
-            o0[k * 3 + 2] += dt_dn[0] * dn_dv * b;
-            o1[k * 3 + 2] += dt_dn[1] * dn_dv * b;
+    if L::HAS_NORMAL && dn_dv != 0.0 {
+        for r in 0..m {
+            if dt_dn[r] == 0.0 {
+                continue;
+            }
+            for (k, &b) in bj.iter().enumerate() {
+                out[r * n + k * d + m] += dt_dn[r] * dn_dv * b;
+            }
         }
     }
 }

@@ -1,4 +1,4 @@
-//! Condensation of the harmonic equations onto the contact coordinates (method.md §5,
+//! Condensation of the harmonic equations onto the contact coordinates (docs/formulation.md §7,
 //! paper (12)-(15)).
 //!
 //! In the contact coordinates `z = [w; y]` of [`ContactCoordinates`] the contact forces act
@@ -135,7 +135,7 @@ impl CondensedSystem {
     }
 
     /// Condensed dynamic stiffness `H_h(omega) = D_NN - D_NL D_LL^-1 D_LN` as (real,
-    /// imaginary) parts; for the JP NLR model (method.md §9).
+    /// imaginary) parts; for the JP NLR model (docs/formulation.md §9).
     ///
     /// # Errors
     /// As [`CondensedSystem::condensed_harmonic`].
@@ -251,7 +251,7 @@ impl HarmonicSystem for CondensedSystem {
     }
 }
 
-/// The condensed linear part (method.md §5) projected onto per-harmonic contact-row bases
+/// The condensed linear part (docs/formulation.md §7) projected onto per-harmonic contact-row bases
 /// `P_h` (`n_w x n_h`), without forming any `n_w x n_w` matrix per frequency:
 ///
 /// ```text
@@ -262,7 +262,7 @@ impl HarmonicSystem for CondensedSystem {
 /// (`D` symmetric), with `P^T A_NN P` and `A_LN P` for `A = K, M, C` formed once. A frequency
 /// then costs an LU of the `n_L`-square `D_LL` and products of size `n_L x n_h`, instead of the
 /// `O(n_w^2 n_L)` condensation and `O(n_w^2 n_h)` projection of the dense `H_h`. This is the
-/// linear part of the JP NLR model (method.md §9).
+/// linear part of the JP NLR model (docs/formulation.md §9).
 #[derive(Clone, Debug)]
 pub struct ProjectedCondensation {
     harmonics: usize,

@@ -1,4 +1,4 @@
-//! Time-domain 3D stick/slip/separation law with its derivatives (method.md §4).
+//! Time-domain 3D stick/slip/separation law with its derivatives (docs/formulation.md §4.2).
 //!
 //! One time step of the element on `w = (u1, u2, v)`:
 //! * normal `N = max(0, n0 + kn v)`, `dN/dv = kn` while `N > 0`;
@@ -7,7 +7,7 @@
 //!   slip `T = mu N T* / |T*|`.
 //!
 //! The corrector returns its derivatives with respect to `T*` and `N`, which the AFT chains
-//! through the time samples (method.md §3).
+//! through the time samples (docs/formulation.md §4).
 
 use super::{ContactLaw, ContactState};
 

@@ -1,4 +1,4 @@
-//! Contact elements (method.md §4): where they sit in the model and which law they follow.
+//! Contact elements (docs/formulation.md §4.2): where they sit in the model and which law they follow.
 //!
 //! A contact acts on a *local relative displacement* `w`: `w = R (x_a - x_b)` for a node pair,
 //! `w = R x_a` for a node against ground, with `w = (u1, u2, v)` and `v` positive into the
@@ -11,6 +11,82 @@ pub mod jenkins;
 
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
+
+/// A contact law seen one time sample at a time, as the AFT's single chain-rule loop uses it
+/// (docs/formulation.md §4): the normal force from the normal displacement, then the
+/// tangential force from an elastic predictor `T* = T_prev + Kt du` and a corrector that returns
+/// `T*` to the slip limit, each with its derivatives. A new contact law implements this trait
+/// and gets its AFT forces, analytical Jacobian and dissipated energy from
+/// [`crate::aft::AftPlan::contact`] unchanged.
+///
+/// Local coordinates are the `TANGENTIAL` directions first, then the normal one if
+/// `HAS_NORMAL`; tangential quantities are `[f64; 2]` with the unused entries zero.
+pub trait SampleLaw {
+    /// Number of tangential directions (2 for the 3D element, 1 for Jenkins).
+    const TANGENTIAL: usize;
+    /// Whether a normal coordinate follows the tangential ones.
+    const HAS_NORMAL: bool;
+    /// Tangential stiffness per direction, `Kt = diag(kt1, kt2)`.
+    fn tangential_stiffness(&self) -> [f64; 2];
+    /// Normal force and `dN/dv` at the normal displacement `v` (`(0, 0)` without a normal
+    /// coordinate).
+    fn normal(&self, v: f64) -> (f64, f64);
+    /// Corrector: the force, state, `dT/dT*` and `dT/dN` for the predictor `T*` under the
+    /// normal force `N`.
+    fn correct(&self, trial: [f64; 2], normal: f64) -> law::Corrector;
+    /// Friction work of one sample, `T . Kt^-1 (T* - T)` (zero in stick, `>= 0` in slip).
+    fn slip_work(&self, trial: [f64; 2], force: [f64; 2]) -> f64;
+
+    /// Predictor `T* = T_prev + Kt du`.
+    #[inline]
+    fn predictor(&self, t_prev: [f64; 2], du: [f64; 2]) -> [f64; 2] {
+        let kt = self.tangential_stiffness();
+        [t_prev[0] + kt[0] * du[0], t_prev[1] + kt[1] * du[1]]
+    }
+}
+
+impl SampleLaw for law::Friction3D {
+    const TANGENTIAL: usize = 2;
+    const HAS_NORMAL: bool = true;
+    #[inline]
+    fn tangential_stiffness(&self) -> [f64; 2] {
+        self.kt
+    }
+    #[inline]
+    fn normal(&self, v: f64) -> (f64, f64) {
+        law::Friction3D::normal(self, v)
+    }
+    #[inline]
+    fn correct(&self, trial: [f64; 2], normal: f64) -> law::Corrector {
+        law::Friction3D::correct(self, trial, normal)
+    }
+    #[inline]
+    fn slip_work(&self, trial: [f64; 2], force: [f64; 2]) -> f64 {
+        law::Friction3D::slip_work(self, trial, force)
+    }
+}
+
+impl SampleLaw for jenkins::Jenkins {
+    const TANGENTIAL: usize = 1;
+    const HAS_NORMAL: bool = false;
+    #[inline]
+    fn tangential_stiffness(&self) -> [f64; 2] {
+        [self.kt, 0.0]
+    }
+    #[inline]
+    fn normal(&self, _v: f64) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+    #[inline]
+    fn correct(&self, trial: [f64; 2], _normal: f64) -> law::Corrector {
+        let (t, state, a) = jenkins::Jenkins::correct(self, trial[0]);
+        law::Corrector { force: [t, 0.0], state, d_predictor: [[a, 0.0], [0.0, 0.0]], d_normal: [0.0, 0.0] }
+    }
+    #[inline]
+    fn slip_work(&self, trial: [f64; 2], force: [f64; 2]) -> f64 {
+        jenkins::Jenkins::slip_work(self, trial[0], force[0])
+    }
+}
 
 /// State of a contact at one time sample: the "boundary condition" of JP (§6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -1,4 +1,4 @@
-//! The built-in shrouded-blade benchmark (method.md §11): a cantilever blade of linear
+//! The built-in shrouded-blade benchmark (docs/formulation.md §12): a cantilever blade of linear
 //! hexahedra with a tip shroud whose two contact faces press against ground.
 //!
 //! Geometry (mm): the blade is the box `x in [-c/2, c/2]` (chord), `y in [-t/2, t/2]`
@@ -37,7 +37,7 @@ use crate::contact::{Contact, ContactLaw};
 use crate::error::{JpError, Result};
 use crate::model::{Damping, Excitation, HarmonicForce, Model};
 
-/// Parameters of the built-in blade. `Default` is the benchmark of method.md §11.
+/// Parameters of the built-in blade. `Default` is the benchmark of docs/formulation.md §12.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BladeParams {
     /// Span `L` (mm).

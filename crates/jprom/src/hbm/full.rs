@@ -1,7 +1,7 @@
 //! The full-order harmonic system: every DoF of the model, in the contact coordinates
 //! `z = [w; y]` of [`ContactCoordinates`] (contact coordinates first, so
 //! [`ContactMap::Leading`]). Per harmonic `D_h = K - (h omega)^2 M + i h omega C`, `D_0 = K`
-//! (method.md §2).
+//! (docs/formulation.md §2).
 
 use super::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
 use crate::contact::Contacts;

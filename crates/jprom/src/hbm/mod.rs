@@ -1,4 +1,4 @@
-//! Harmonic balance (method.md §2): the unknowns' layout, the linear part of a harmonic
+//! Harmonic balance (docs/formulation.md §2): the unknowns' layout, the linear part of a harmonic
 //! system, the residual and Jacobian with AFT contact forces, Newton/trust-region
 //! solution of one frequency point, and pseudo-arclength continuation over a band.
 //!

@@ -3,7 +3,7 @@
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
 
-/// Settings of one harmonic-balance solve (method.md §2-3).
+/// Settings of one harmonic-balance solve (docs/formulation.md §2, §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HbmOptions {
     /// Highest harmonic `H` (default 1). The static term `h = 0` is always included.
@@ -34,7 +34,7 @@ pub struct HbmOptions {
 
 /// Default AFT sample count: 64 for `H <= 3`, else the next power of two at or above
 /// `16 (H + 1)` (128 for `H = 4..=7`, 256 up to 15), so that friction's higher harmonics
-/// alias little into `0..=H` (method.md §3).
+/// alias little into `0..=H` (docs/formulation.md §4).
 pub fn default_nt(harmonics: usize) -> usize {
     if harmonics <= 3 {
         64

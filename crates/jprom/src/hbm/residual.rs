@@ -1,4 +1,4 @@
-//! HBM residual and Jacobian of a [`HarmonicSystem`] (method.md §2, paper (4)-(6)):
+//! HBM residual and Jacobian of a [`HarmonicSystem`] (docs/formulation.md §2, paper (4)-(6)):
 //!
 //! ```text
 //! r = D z - f + W^T F(W z),        J = D + W^T K̂ W,      K̂ = dF/dw (from the AFT, §3)

@@ -124,6 +124,12 @@ pub struct SweepResult {
     pub restarts: Vec<f64>,
 }
 
+impl Default for SweepResult {
+    fn default() -> Self {
+        SweepResult::empty()
+    }
+}
+
 impl SweepResult {
     /// No point yet; `end` is [`SweepEnd::ReachedEnd`] until set.
     pub fn empty() -> Self {

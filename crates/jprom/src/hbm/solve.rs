@@ -1,4 +1,4 @@
-//! One frequency point (method.md §2): the HBM equations at fixed frequency solved by the
+//! One frequency point (docs/formulation.md §2): the HBM equations at fixed frequency solved by the
 //! trust-region Newton method of [`super::newton`], from a guess or from zero, with load
 //! stepping on the dynamic forcing as the fallback; and the small dense helpers the solvers
 //! share (checked LU, reference force).

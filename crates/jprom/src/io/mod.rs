@@ -136,6 +136,16 @@ pub fn parse_json<T: DeserializeOwned>(kind: &str, text: &str, name: &str) -> Re
 }
 
 /// The envelope's `format`, `kind` and `version`, checked before the data is parsed.
+/// The envelope's `kind` of a jprom document's text (`None` if the text is not a jprom
+/// envelope with a kind); for loaders that accept several kinds.
+pub fn document_kind(text: &str) -> Option<String> {
+    let h: Header = serde_json::from_str(text).ok()?;
+    match h.format.as_deref() {
+        Some("jprom") => h.kind,
+        _ => None,
+    }
+}
+
 fn check_header(kind: &str, text: &str, name: &str) -> Result<()> {
     let h: Header = serde_json::from_str(text).map_err(|e| JpError::Parse { path: name.to_string(), line: e.line(), reason: e.to_string() })?;
     let io = |reason: String| Err(JpError::Io { path: name.to_string(), reason });

@@ -1,4 +1,4 @@
-//! SVD conditioning of the stacked JP modes (method.md §8, paper (37)-(38)):
+//! SVD conditioning of the stacked JP modes (docs/formulation.md §8.7, paper (37)-(38)):
 //! `U_h S_h V_h^T = Φ_h`, keep the columns of `U_h` whose singular value is at least
 //! `s_max / gamma`. The result is orthonormal, spans the dominant part of `Φ_h`, and its size
 //! `n_h` grows with `gamma`.

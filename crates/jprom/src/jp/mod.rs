@@ -1,4 +1,4 @@
-//! Jacobian Projection (method.md §6-8): JP modes from a set of contact boundary conditions
+//! Jacobian Projection (docs/formulation.md §8): JP modes from a set of contact boundary conditions
 //! ([`modes`]), prediction of the boundary conditions along a generating shape
 //! ([`prediction`]), SVD conditioning of the stacked modes ([`conditioning`]) and the resulting
 //! reduction basis ([`basis`]).

@@ -1,4 +1,4 @@
-//! JP modes of one set of boundary conditions (method.md §6, paper (27)-(35)).
+//! JP modes of one set of boundary conditions (docs/formulation.md §8, paper (27)-(35)).
 //!
 //! Given the contact stiffness `K̂` (a [`ContactJacobian`]):
 //! 1. static condensation (28) with `A_0 = K + K̂_00`;

@@ -1,4 +1,4 @@
-//! Prediction of the boundary conditions (method.md §7, paper §3.3-3.4).
+//! Prediction of the boundary conditions (docs/formulation.md §8.8, paper §3.3-3.4).
 //!
 //! The contact stiffness is sampled along a generating shape instead of a full-order solution:
 //! `q_0` = the nonlinear static solution under `f_E^0` (with contacts), `q_1 = p̂ (φ_c, φ_s)`
@@ -266,7 +266,7 @@ fn pattern(forces: &ContactForces) -> Vec<u8> {
     forces.cycles.iter().flat_map(|c| c.states.iter().map(|&s| s as u8)).collect()
 }
 
-/// Predicts a JP basis (method.md §7-8) without any full-order solution.
+/// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution.
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.

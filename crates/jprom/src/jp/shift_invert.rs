@@ -1,4 +1,4 @@
-//! Partial eigen solve of the JP problem (31) by shift-invert Arnoldi (method.md §6, step 3),
+//! Partial eigen solve of the JP problem (31) by shift-invert Arnoldi (docs/formulation.md §8, step 3),
 //! for models too large for the dense solve of the whole condensed problem.
 //!
 //! With the shift `σ` (the square of the band centre, rad/s) the operator

@@ -1,4 +1,4 @@
-//! The structural model (method.md §1): free `M`, `K`, proportional damping, excitation per
+//! The structural model (docs/formulation.md §1): free `M`, `K`, proportional damping, excitation per
 //! harmonic, contact elements and output DoFs.
 
 pub mod contact_coordinates;

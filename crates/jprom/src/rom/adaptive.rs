@@ -1,4 +1,4 @@
-//! The self-correcting reduced sweep (method.md §7 last paragraph, §10): predict a basis from
+//! The self-correcting reduced sweep (docs/formulation.md §8.8 last paragraph, §10): predict a basis from
 //! the stuck mode, sweep the reduced model, evaluate `e*_1` at every point; if its worst value
 //! exceeds the threshold, predict a new set of JP modes with the reduced solution at the point
 //! of worst `e*_1` as generating shape (its static part and first harmonic, cos and sin parts,

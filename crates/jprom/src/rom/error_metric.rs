@@ -1,4 +1,4 @@
-//! The error predictor `e*` of a reduced solution (method.md §10, paper (40)-(44)).
+//! The error predictor `e*` of a reduced solution (docs/formulation.md §10.1, paper (40)-(44)).
 //!
 //! For a reduced solution `p` the full-size linear equations give the contact force the
 //! solution *implies*, `f*_C^h = D_h Φ_h p_h - f_E^h` (40) (on the condensed system for NLR);

@@ -1,4 +1,4 @@
-//! Full-DoF reduction FR (method.md §9, paper (16)-(20)): `q_h = Φ_h p_h` on every DoF.
+//! Full-DoF reduction FR (docs/formulation.md §9, paper (16)-(20)): `q_h = Φ_h p_h` on every DoF.
 //!
 //! `K`, `M`, `C` and the forces are projected once per harmonic, and the contact map is the
 //! dense `W_h` = first `n_w` rows of `Φ_h`, so a reduced iteration (residual, Jacobian

@@ -1,4 +1,4 @@
-//! Reduced models on a JP basis (method.md §9): full-DoF reduction [`FrRom`] and nonlinear-DoF
+//! Reduced models on a JP basis (docs/formulation.md §9): full-DoF reduction [`FrRom`] and nonlinear-DoF
 //! reduction [`NlrRom`], both [`HarmonicSystem`]s that the HBM solver and the continuation
 //! use as they are, and the self-correcting sweep [`adaptive_sweep`] — the default workflow:
 //! predict a basis, sweep the reduced model, check the error predictor (§10) and, where it
@@ -9,10 +9,12 @@ pub mod adaptive;
 pub mod error_metric;
 pub mod fr;
 pub mod nlr;
+pub mod record;
 
 pub use adaptive::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck};
 pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
+pub use record::SweepRecord;
 
 use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;

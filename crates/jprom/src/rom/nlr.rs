@@ -1,4 +1,4 @@
-//! Nonlinear-DoF reduction NLR (method.md §9, paper (21)-(26)): `q_N,h = Φ_N,h s_h` on the
+//! Nonlinear-DoF reduction NLR (docs/formulation.md §9, paper (21)-(26)): `q_N,h = Φ_N,h s_h` on the
 //! condensed system of §5 ([`CondensedSystem`]), with `Φ_N,h` the contact rows of the JP basis,
 //! orthonormalised. The linear DoFs stay exact (condensation); per frequency the reduced
 //! dynamic stiffness `Φ_N^T H_h(omega) Φ_N` costs one condensation of `D_h` (a factorisation

@@ -1,0 +1,75 @@
+//! A reduced sweep as one record: the points, the error predictor `e*_h` at each point and the
+//! basis corrections that led to the final basis (docs/formulation.md §10). It is what the C
+//! API's sweep handle holds and what a saved reduced sweep contains (a jprom `reduced_sweep`
+//! document), so `e*` and the corrections survive a save and a load.
+
+use super::adaptive::{AdaptiveSweep, Correction};
+use crate::error::Result;
+use crate::hbm::SweepResult;
+use crate::io::documents::{bad, Check, Document};
+use serde::{Deserialize, Serialize};
+
+/// A sweep with its predicted errors and corrections (both empty for a full-order sweep).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct SweepRecord {
+    /// The points (reduced unknowns in `points[i].z` for a reduced sweep).
+    pub sweep: SweepResult,
+    /// `e*_h`, `h = 0..=H`, at every point (empty for a full-order sweep).
+    #[serde(default)]
+    pub predicted_errors: Vec<Vec<f64>>,
+    /// Basis corrections of a self-correcting sweep, in order.
+    #[serde(default)]
+    pub corrections: Vec<Correction>,
+}
+
+impl SweepRecord {
+    /// A full-order sweep: no `e*`, no corrections.
+    pub fn full_order(sweep: SweepResult) -> Self {
+        SweepRecord { sweep, predicted_errors: Vec::new(), corrections: Vec::new() }
+    }
+
+    /// Whether the record carries reduced-model data (`e*` or corrections).
+    pub fn is_reduced(&self) -> bool {
+        !self.predicted_errors.is_empty() || !self.corrections.is_empty()
+    }
+}
+
+impl From<AdaptiveSweep> for SweepRecord {
+    fn from(a: AdaptiveSweep) -> Self {
+        SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections }
+    }
+}
+
+impl Document for SweepRecord {
+    const KIND: &'static str = "reduced_sweep";
+    fn check(&self) -> Result<Check> {
+        if let Err((key, reason)) = self.sweep.check()? {
+            return Ok(bad(format!("sweep.{key}"), reason));
+        }
+        let points = &self.sweep.points;
+        if !self.predicted_errors.is_empty() && self.predicted_errors.len() != points.len() {
+            return Ok(bad("predicted_errors", format!("has {} rows, the sweep has {} points", self.predicted_errors.len(), points.len())));
+        }
+        for (i, (e, p)) in self.predicted_errors.iter().zip(points).enumerate() {
+            let want = p.layout.harmonics + 1;
+            if e.len() != want {
+                return Ok(bad(format!("predicted_errors[{i}]"), format!("has {} values, H + 1 = {want} expected", e.len())));
+            }
+            if let Some(h) = e.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Ok(bad(format!("predicted_errors[{i}][{h}]"), format!("must be finite and >= 0, got {}", e[h])));
+            }
+        }
+        let harmonics = points.first().map(|p| p.layout.harmonics);
+        for (i, c) in self.corrections.iter().enumerate() {
+            if let Some(h) = harmonics {
+                if c.sizes.len() != h + 1 {
+                    return Ok(bad(format!("corrections[{i}].sizes"), format!("has {} entries, H + 1 = {} expected", c.sizes.len(), h + 1)));
+                }
+            }
+            if c.worst_error_after.is_nan() || c.worst_error_before.is_nan() {
+                return Ok(bad(format!("corrections[{i}]"), "a worst error is NaN"));
+            }
+        }
+        Ok(Ok(()))
+    }
+}
