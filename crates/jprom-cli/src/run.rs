@@ -6,8 +6,7 @@
 use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
 use jprom::aft::AftPlan;
-use jprom::fe::{BladeParams, BuiltinBlade, CbModel, CbOptions, CraigBampton};
-use jprom::contact::Contact;
+use jprom::fe::{BladeParams, BuiltinBlade, FeModel, NodalContact, NodalForce, Reduction};
 use jprom::io::dof_map::DofMap;
 use jprom::io::matrix_market::read_symmetric_matrix_market;
 use jprom::condensation::CondensedSystem;
@@ -17,7 +16,7 @@ use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cy
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
 use jprom::level::stuck_limit;
 use jprom::jp::prediction::PredictionOptions;
-use jprom::jp::{predict_basis, JpBasis};
+use jprom::jp::predict_basis;
 use jprom::model::{ContactCoordinates, Damping, Model};
 use jprom::rom::{adaptive_sweep, reduced_model, AdaptiveOptions, RomKind};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -87,27 +86,6 @@ pub struct BasisStudyRow {
     pub actual_e1: Option<f64>,
 }
 
-/// The basis of `basis` conditioned with a smaller `gamma`: (38) keeps the left singular
-/// vectors whose singular value is at least `s_max / gamma`, and `basis` holds the leading
-/// ones of the same SVD with all singular values, so this is a column truncation, identical to
-/// predicting the basis again with `gamma`.
-///
-/// # Errors
-/// [`JpError::InvalidValue`] if `gamma` exceeds the basis' own.
-pub fn reconditioned(basis: &JpBasis, gamma: f64) -> Result<JpBasis> {
-    if !(gamma >= 1.0 && gamma <= basis.gamma) {
-        return Err(JpError::invalid("gamma", format!("must be in [1, {}] to re-condition this basis, got {gamma}", basis.gamma)));
-    }
-    let mut out = basis.clone();
-    out.gamma = gamma;
-    for (h, (phi, sv)) in basis.phi.iter().zip(&basis.singular_values).enumerate() {
-        let s_max = sv.first().copied().unwrap_or(0.0);
-        let keep = if s_max > 0.0 { sv.iter().take_while(|&&x| x >= s_max / gamma).count().min(phi.ncols()) } else { 0 };
-        out.phi[h] = phi.as_ref().subcols(0, keep).to_owned();
-        out.sizes[h] = keep;
-    }
-    Ok(out)
-}
 
 /// Error vs basis size at one level: one basis predicted with the largest `gamma` of
 /// `basis.gamma_study`, re-conditioned to each, and each ROM solved at the full-order
@@ -131,7 +109,7 @@ fn gamma_study(
     let (big, _) = predict_basis(coords, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
     let mut out = Vec::new();
     for &g in &gammas {
-        let basis = reconditioned(&big, g)?;
+        let basis = big.reconditioned(g)?;
         for &(name, kind) in kinds {
             let rom = reduced_model(kind, coords, Some(condensed), &basis)?;
             let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
@@ -230,75 +208,41 @@ pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
     if map.n_dof != n {
         return Err(JpError::invalid("model.dof_map", format!("{}: n_dof {} but the matrices are {n} x {n}", dof_map.display(), map.n_dof)));
     }
-    let node = |key: &str, id: i64| -> Result<[usize; 3]> {
-        map.nodes
-            .iter()
-            .find(|nd| nd.id == id)
-            .map(|nd| nd.dofs)
-            .ok_or_else(|| JpError::invalid(key, format!("no node with id {id} in the dof map {}", dof_map.display())))
+    let fe = FeModel::from_dof_map(k, m, &map).map_err(|e| with_key("model.dof_map", e))?;
+    // every node id checked here, so that an unknown one is named by its study key
+    let node = |key: &str, id: i64| -> Result<()> {
+        fe.node(id).map(|_| ()).map_err(|_| JpError::invalid(key, format!("no node with id {id} in the dof map {}", dof_map.display())))
     };
-    // boundary nodes: contacts, then loaded, then output nodes (each once)
-    let mut boundary_nodes: Vec<i64> = Vec::new();
-    let mut contact_list = Vec::new();
+    let mut spec = Reduction { cb_modes: *cb_modes, ..Reduction::default() };
     for (i, set) in contacts.iter().enumerate() {
         let key = format!("model.contacts[{i}].nodes");
         let frame = set.frame().map_err(|r| JpError::invalid(format!("model.contacts[{i}].normal"), r))?;
         let law = ContactLaw::Friction3D { kt1: set.kt1, kt2: set.kt2, kn: set.kn, mu: set.mu, n0: set.n0 };
         for &id in &set.nodes {
             node(&key, id)?;
-            if boundary_nodes.contains(&id) {
+            if spec.contacts.iter().any(|c| c.node == id) {
                 return Err(JpError::invalid(key, format!("node {id} is a contact node twice")));
             }
-            contact_list.push((boundary_nodes.len(), frame, law.clone()));
-            boundary_nodes.push(id);
+            spec.contacts.push(NodalContact { node: id, frame, law: law.clone() });
         }
     }
     let loads = [("static", &study.forcing.static_loads), ("harmonic", &study.forcing.harmonic_loads)];
     for (name, set) in loads {
         for (i, l) in set.iter().enumerate() {
+            let force = l.vector().map_err(|r| JpError::invalid(format!("forcing.{name}[{i}].direction"), r))?;
             for &id in &l.nodes {
                 node(&format!("forcing.{name}[{i}].nodes"), id)?;
-                if !boundary_nodes.contains(&id) {
-                    boundary_nodes.push(id);
-                }
+                let f = NodalForce { node: id, force };
+                if name == "static" { spec.static_forces.push(f) } else { spec.harmonic_forces.push(f) }
             }
         }
     }
     for &id in output_nodes {
         node("model.output_nodes", id)?;
-        if !boundary_nodes.contains(&id) {
-            boundary_nodes.push(id);
-        }
+        spec.outputs.extend(output_components.iter().map(|c| (id, c.index())));
     }
-    let pos = |id: i64| boundary_nodes.iter().position(|&b| b == id).expect("a boundary node");
-    let mut boundary = Vec::with_capacity(3 * boundary_nodes.len());
-    for &id in &boundary_nodes {
-        boundary.extend(node("model", id)?);
-    }
-    let cb = CraigBampton::reduce(&k, &m, &boundary, CbOptions { n_modes: *cb_modes, keep_recovery: false })?;
-    let n_red = cb.n_reduced();
-    let mut forces = [vec![0.0; n_red], vec![0.0; n_red]];
-    for ((name, set), f) in loads.into_iter().zip(forces.iter_mut()) {
-        for (i, l) in set.iter().enumerate() {
-            let v = l.vector().map_err(|r| JpError::invalid(format!("forcing.{name}[{i}].direction"), r))?;
-            for &id in &l.nodes {
-                let p = pos(id);
-                for a in 0..3 {
-                    f[3 * p + a] += v[a];
-                }
-            }
-        }
-    }
-    let [static_force, harmonic_force] = forces;
-    let model = CbModel {
-        contacts: contact_list.into_iter().map(|(p, frame, law)| Contact::ground_3d([3 * p, 3 * p + 1, 3 * p + 2], frame, law)).collect(),
-        output_dofs: output_nodes.iter().flat_map(|&id| output_components.iter().map(move |c| (id, c.index()))).map(|(id, a)| 3 * pos(id) + a).collect(),
-        cb,
-        static_force,
-        harmonic_force,
-    };
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
-    model.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
+    fe.reduce(&spec, Damping::from_modal_ratio(*damping_ratio, centre))
 }
 
 /// The row of a solver that failed before giving a sweep (its error in the warnings).

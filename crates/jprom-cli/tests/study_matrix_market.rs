@@ -4,7 +4,7 @@
 //! follow the full order, and bad studies must be errors naming the key.
 
 use jprom::aft::AftPlan;
-use jprom_cli::run::{build_model, reconditioned, run_study};
+use jprom_cli::run::{build_model, run_study};
 use jprom::level::stuck_limit_scale;
 use jprom_cli::study::Study;
 use jprom::fe::{BladeFe, BladeParams, BuiltinBlade};
@@ -184,14 +184,14 @@ fn reconditioning_a_basis_equals_predicting_it_with_the_smaller_gamma() {
     let (big, _) = predict_basis(&coords, &popts).unwrap();
     popts.gamma = 1e2;
     let (small, _) = predict_basis(&coords, &popts).unwrap();
-    let r = reconditioned(&big, 1e2).unwrap();
+    let r = big.reconditioned(1e2).unwrap();
     assert_eq!(r.sizes, small.sizes);
     assert!(r.sizes[1] < big.sizes[1], "sizes {:?} (gamma 1e2) vs {:?} (1e4)", r.sizes, big.sizes);
     for (a, b) in r.phi.iter().zip(&small.phi) {
         let (d, _) = max_abs_diff(a, b);
         assert!(d < 1e-10, "bases differ by {d:e}");
     }
-    assert!(reconditioned(&big, 1e5).is_err());
+    assert!(big.reconditioned(1e5).is_err());
 }
 
 fn error_of(path: &Path) -> String {

@@ -20,8 +20,10 @@ pub mod blade;
 pub mod blade_pair;
 pub mod plate;
 pub mod craig_bampton;
+pub mod nodal;
 
 pub use blade::{BladeFe, BladeParams, BuiltinBlade, CbModel, ContactNode};
 pub use blade_pair::{BladePair, PairParams, PairSite};
 pub use craig_bampton::{CbOptions, CraigBampton};
+pub use nodal::{FeModel, FeNode, NodalContact, NodalForce, Reduction};
 pub use plate::{PlateContact, PlateFe, PlateParams};

@@ -19,6 +19,7 @@
 //!
 //! DoFs: node `i` (root nodes excluded) owns `3 i + {0, 1, 2}`.
 
+use super::nodal::{FeModel, FeNode, NodalContact, NodalForce, Reduction};
 use super::hex8::{self, Material};
 use crate::linalg::sparse::{sparse_from_triplets, SparseMat};
 use crate::contact::ContactLaw;
@@ -210,6 +211,32 @@ impl PlateFe {
     /// Number of DoFs.
     pub fn n_dof(&self) -> usize {
         self.stiffness.nrows()
+    }
+    /// Node id of mesh node `node` in [`PlateFe::fe_model`] (as an FE code would number it).
+    pub fn node_id(node: usize) -> i64 {
+        7000 + node as i64
+    }
+
+    /// The plate as a user's FE model ([`FeModel`], every node with its x, y, z rows) and what
+    /// to keep of it: the 16 tip contacts, the leading-edge load, `y` outputs at the load and
+    /// tip nodes, `cb_modes` fixed-interface modes.
+    ///
+    /// # Errors
+    /// As [`FeModel::new`].
+    pub fn fe_model(&self, cb_modes: usize) -> Result<(FeModel, Reduction)> {
+        let nodes = (0..self.coords.len())
+            .map(|i| FeNode { id: Self::node_id(i), coords: Some(self.coords[i]), dofs: [Some(3 * i), Some(3 * i + 1), Some(3 * i + 2), None, None, None] })
+            .collect();
+        let fe = FeModel::new(self.stiffness.clone(), self.mass.clone(), nodes)?;
+        let law = self.params.contact_law();
+        let spec = Reduction {
+            contacts: self.contacts.iter().map(|c| NodalContact { node: Self::node_id(c.node), frame: c.frame, law: law.clone() }).collect(),
+            harmonic_forces: vec![NodalForce { node: Self::node_id(self.load_node), force: [0.0, self.params.force, 0.0] }],
+            outputs: vec![(Self::node_id(self.load_node), 1), (Self::node_id(self.tip_node), 1)],
+            cb_modes,
+            ..Reduction::default()
+        };
+        Ok((fe, spec))
     }
 }
 

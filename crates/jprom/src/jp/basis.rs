@@ -1,4 +1,4 @@
-//! The JP reduction basis `Φ_h`, `h = 0..=H` (method.md §6-8): JP modes of one or several sets
+//! The JP reduction basis `Φ_h`, `h = 0..=H` (docs/formulation.md §8): JP modes of one or several sets
 //! of boundary conditions, stacked per harmonic (36) and conditioned (38).
 
 use super::conditioning::condition;
@@ -51,6 +51,29 @@ pub struct JpBasis {
 }
 
 impl JpBasis {
+    /// This basis conditioned with a smaller `gamma` (docs/formulation.md §8.7): (38) keeps
+    /// the left singular vectors whose singular value is at least `s_max / gamma`, and the
+    /// basis holds the leading ones of the same SVD with all singular values, so this is a
+    /// column truncation, identical to predicting the basis again with `gamma`.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] if `gamma` exceeds the basis' own.
+    pub fn reconditioned(&self, gamma: f64) -> Result<JpBasis> {
+        let basis = self;
+        if !(gamma >= 1.0 && gamma <= basis.gamma) {
+            return Err(JpError::invalid("gamma", format!("must be in [1, {}] to re-condition this basis, got {gamma}", basis.gamma)));
+        }
+        let mut out = basis.clone();
+        out.gamma = gamma;
+        for (h, (phi, sv)) in basis.phi.iter().zip(&basis.singular_values).enumerate() {
+            let s_max = sv.first().copied().unwrap_or(0.0);
+            let keep = if s_max > 0.0 { sv.iter().take_while(|&&x| x >= s_max / gamma).count().min(phi.ncols()) } else { 0 };
+            out.phi[h] = phi.as_ref().subcols(0, keep).to_owned();
+            out.sizes[h] = keep;
+        }
+        Ok(out)
+    }
+
     /// Highest harmonic `H`.
     pub fn harmonics(&self) -> usize {
         self.phi.len() - 1
@@ -93,7 +116,7 @@ impl JpBasis {
     /// a [`crate::condensation::CondensedSystem`], `n_w` per coefficient), its contact stiffness
     /// `K̂ = dF/dw` by the AFT of `plan` ([`ContactJacobian::from_forces`]), then
     /// [`JpBasis::from_jacobian`]. With every eigenpair kept this basis reproduces `fo`
-    /// (method.md §6; tests/rom_reproduce.rs).
+    /// (docs/formulation.md §8; tests/rom_reproduce.rs).
     ///
     /// # Errors
     /// [`JpError::InvalidValue`] if `fo`'s `H` differs from `plan`'s; [`JpError::BadSize`] if
@@ -154,7 +177,7 @@ impl JpBasis {
     }
 
     /// The union of two bases (e.g. a basis and the one regenerated from a reduced solution,
-    /// method.md §7 last paragraph): per harmonic the columns of both are stacked (36) and
+    /// docs/formulation.md §8.8 last paragraph): per harmonic the columns of both are stacked (36) and
     /// re-conditioned by SVD (37)-(38) with `gamma`. Both are orthonormal, so every singular
     /// value of the stack lies in `[0, sqrt 2]` and `gamma` only drops directions the two
     /// share up to `sqrt 2 / gamma`.
