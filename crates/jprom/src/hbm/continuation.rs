@@ -23,8 +23,10 @@
 //! * **Acceptance**: a corrected point must lie ahead of the last one along the direction
 //!   (`d^T S (y - y_k) > 0`), so points are strictly ordered along the arclength and the branch
 //!   is never retraced. A chord that turns by more than [`sharp_turn`] from the last one is
-//!   retried at half the length (at most [`MAX_ANGLE_RETRIES`] times, so that a true corner of
-//!   the branch, where a contact changes state, is passed).
+//!   retried at half the length (at most [`MAX_ANGLE_RETRIES`] times). A turn that does not
+//!   shrink with the step (still above [`CORNER_RATIO`] of the longer step's) is a corner of the
+//!   branch, where a contact changes state: that step is taken, and the next one goes on with
+//!   the step planned before the corner instead of a step shrunk by the corner's angle.
 //! * **Step control**: after a success `ds` is scaled by the smaller of
 //!   `target_iterations / iterations` and `max_angle / (2 angle)` (the angle between successive
 //!   chords), each clamped to `[1/2, 2]`, within `[min_step, max_step]`, and capped so that
@@ -54,6 +56,10 @@ use std::ops::ControlFlow;
 /// Most retries of one step at half the length because its tangent turned by more than
 /// [`SweepOptions::max_angle`]; past them the step is taken (a corner of the branch).
 pub(crate) const MAX_ANGLE_RETRIES: usize = 4;
+
+/// A retried step whose turn is still more than this fraction of the turn of the step twice
+/// as long is at a corner of the branch (on a smooth branch the turn halves with the step).
+pub(crate) const CORNER_RATIO: f64 = 0.7;
 
 /// Most restarts over a kink per sweep (see the module doc).
 pub(crate) const MAX_RESTARTS: usize = 10;
@@ -367,6 +373,10 @@ pub fn sweep_from(
         ds = ds.max(sopts.min_step);
         let mut last_error: Option<JpError> = None;
         let mut angle_retries = 0;
+        // the step as it was before any retry for a sharp turn, and the last turn seen
+        let ds_planned = ds;
+        let mut last_turn: Option<f64> = None;
+        let mut corner = false;
         let (corrected, chord, angle) = loop {
             if ds < sopts.min_step {
                 // Step over the kink at fixed frequency, or give up.
@@ -393,8 +403,15 @@ pub fn sweep_from(
                 Ok((c, chord, angle))
             });
             match verdict {
+                // A turn that does not shrink with the step is a corner of the branch (a
+                // contact changing state): no shorter step would turn less, so take it.
+                Ok(v) if v.2 > sharp_turn(sopts) && last_turn.is_some_and(|t| v.2 > CORNER_RATIO * t) => {
+                    corner = true;
+                    break v;
+                }
                 Ok((_, _, angle)) if angle > sharp_turn(sopts) && angle_retries < MAX_ANGLE_RETRIES && 0.5 * ds >= sopts.min_step => {
                     angle_retries += 1;
+                    last_turn = Some(angle);
                     result.rejected_steps += 1;
                     ds *= 0.5;
                 }
@@ -408,12 +425,22 @@ pub fn sweep_from(
         };
         let restarted = chord.is_empty();
         let chord = if restarted {
-            // after a restart: the tangent at the new point, oriented along the last direction
+            // after a restart, which stepped forward at fixed frequency over a point the
+            // corrector could not settle on: the tangent at the new point, oriented forward in
+            // frequency (oriented along the last direction it may lead back into that point)
             result.restarts.push(omega);
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
             let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
             let (_, top) = c.linearise(&corrected.y, true)?;
-            tangent(&Linearisation { top: top.expect("jacobian requested") }, &dir, metric, corrected.y[n])?
+            tangent(&Linearisation { top: top.expect("jacobian requested") }, &orient, metric, corrected.y[n])?
+        } else if corner {
+            // past a corner the branch is as smooth as before it: go on with the planned step,
+            // along the tangent of the new piece (the chord across the corner points between
+            // the two pieces, a poor predictor)
+            ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
+            let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+            let (_, top) = c.linearise(&corrected.y, true)?;
+            tangent(&Linearisation { top: top.expect("jacobian requested") }, &chord, metric, corrected.y[n])?
         } else {
             let iters = corrected.iterations.max(1) as f64;
             let f_iter = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);
