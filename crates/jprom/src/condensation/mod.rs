@@ -18,7 +18,7 @@
 use crate::contact::Contacts;
 use crate::error::{JpError, Result};
 use crate::hbm::options::check_omega;
-use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use crate::hbm::{HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
 use crate::linalg::lu_checked;
 use crate::model::{ContactCoordinates, Model};
 use faer::linalg::solvers::Solve;
@@ -201,9 +201,6 @@ impl HarmonicSystem for CondensedSystem {
     }
     fn contacts(&self) -> Contacts<'_> {
         self.coords.contacts()
-    }
-    fn contact_map(&self, _h: usize) -> ContactMap<'_> {
-        ContactMap::Leading
     }
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
         check_omega(omega)?;

@@ -3,7 +3,7 @@
 //! [`ContactMap::Leading`]). Per harmonic `D_h = K - (h omega)^2 M + i h omega C`, `D_0 = K`
 //! (docs/formulation.md §2).
 
-use super::{ContactMap, HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use super::{HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
 use crate::contact::Contacts;
 use crate::error::{JpError, Result};
 use crate::model::{ContactCoordinates, Model};
@@ -55,9 +55,6 @@ impl HarmonicSystem for FullSystem {
     }
     fn contacts(&self) -> Contacts<'_> {
         self.coords.contacts()
-    }
-    fn contact_map(&self, _h: usize) -> ContactMap<'_> {
-        ContactMap::Leading
     }
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
         super::options::check_omega(omega)?;

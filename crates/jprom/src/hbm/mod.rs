@@ -75,8 +75,11 @@ pub trait HarmonicSystem: Sync {
     fn n_contact_coords(&self) -> usize {
         self.contacts().n_w
     }
-    /// `W_h` for harmonic `h = 0..=H`.
-    fn contact_map(&self, h: usize) -> ContactMap<'_>;
+    /// `W_h` for harmonic `h = 0..=H`; by default the contact coordinates lead the unknowns
+    /// of every harmonic ([`ContactMap::Leading`], the full and condensed systems).
+    fn contact_map(&self, _h: usize) -> ContactMap<'_> {
+        ContactMap::Leading
+    }
     /// `D_h(omega)` and `f_h(omega)` for all harmonics.
     fn linear_part(&self, omega: f64) -> Result<LinearPart>;
     /// Physical response at the output DoFs, per harmonic coefficient: entry `k * n_out + j`
