@@ -192,6 +192,55 @@ module jprom_c
       integer(c_size_t), value :: len
       integer(c_size_t), intent(out) :: written
     end function
+    ! FE models (issue 13): from CalculiX output to a jprom model by Craig-Bampton
+    integer(c_int) function jprom_fe_model_load_calculix(inp, fe) bind(C, name="jprom_fe_model_load_calculix")
+      import :: c_int, c_char, c_ptr
+      character(kind=c_char), dimension(*), intent(in) :: inp
+      type(c_ptr), intent(out) :: fe
+    end function
+    integer(c_int) function jprom_fe_model_free(fe) bind(C, name="jprom_fe_model_free")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    integer(c_int) function jprom_fe_model_node_set(fe, name, ids, len, count) bind(C, name="jprom_fe_model_node_set")
+      import :: c_int, c_char, c_ptr, c_size_t, c_int64_t
+      type(c_ptr), value :: fe
+      character(kind=c_char), dimension(*), intent(in) :: name
+      integer(c_int64_t), dimension(*), intent(out) :: ids
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: count
+    end function
+    integer(c_int) function jprom_fe_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0) bind(C, name="jprom_fe_add_contact")
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      real(c_double), dimension(*), intent(in) :: frame
+      real(c_double), value :: kt1, kt2, kn, mu, n0
+    end function
+    integer(c_int) function jprom_fe_add_force(fe, node, harmonic, force) bind(C, name="jprom_fe_add_force")
+      import :: c_int, c_ptr, c_int64_t, c_size_t, c_double
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: harmonic
+      real(c_double), dimension(*), intent(in) :: force
+    end function
+    integer(c_int) function jprom_fe_add_output(fe, node, direction) bind(C, name="jprom_fe_add_output")
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: direction
+    end function
+    integer(c_int) function jprom_fe_reduce(fe, cb_modes, model) bind(C, name="jprom_fe_reduce")
+      import :: c_int, c_ptr, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_size_t), value :: cb_modes
+      type(c_ptr), intent(out) :: model
+    end function
+    integer(c_int) function jprom_model_set_dynamic_scale(model, scale) bind(C, name="jprom_model_set_dynamic_scale")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), value :: scale
+    end function
   end interface
 end module jprom_c
 
@@ -208,6 +257,8 @@ module jprom
   public :: jp_model_new, jp_model_free, jp_add_ground_contact, jp_set_damping, jp_set_first_harmonic_force, &
             jp_set_outputs, jp_default_options, jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_point, &
             jp_sweep_point_coeffs, jp_last_error
+  public :: jp_fe_load_calculix, jp_fe_free, jp_fe_node_set, jp_fe_add_contact, jp_fe_add_force, jp_fe_add_output, &
+            jp_fe_reduce, jp_set_dynamic_scale
   public :: jp_default_jp_options, jp_basis_predict, jp_basis_sizes, jp_basis_free, jp_rom_sweep_adaptive, &
             jp_sweep_n_corrections, jp_sweep_point_error
 
@@ -456,5 +507,87 @@ contains
     integer, intent(in) :: i, h
     real(c_double), intent(out) :: e
     jp_sweep_point_error = int(jprom_sweep_point_predicted_error(sweep, int(i - 1, c_size_t), int(h, c_size_t), e))
+  end function
+  ! ---- FE models: node ids as the FE code numbers them; directions 1, 2, 3 = x, y, z ----
+
+  !> FE model from a CalculiX *FREQUENCY, SOLVER=MATRIXSTORAGE job (path of its .inp deck).
+  integer function jp_fe_load_calculix(inp, fe, message)
+    use jprom_c, only: jprom_fe_model_load_calculix
+    character(len=*), intent(in) :: inp
+    type(c_ptr), intent(out) :: fe
+    character(len=*), intent(out), optional :: message
+    jp_fe_load_calculix = finish(jprom_fe_model_load_calculix(trim(inp) // c_null_char, fe), message)
+  end function
+
+  integer function jp_fe_free(fe)
+    use jprom_c, only: jprom_fe_model_free
+    type(c_ptr), intent(inout) :: fe
+    jp_fe_free = int(jprom_fe_model_free(fe))
+    fe = c_null_ptr
+  end function
+
+  !> The node ids of node set `name` into ids(1:n) (n = the set's size; ids must hold it).
+  integer function jp_fe_node_set(fe, name, ids, n, message)
+    use jprom_c, only: jprom_fe_model_node_set
+    type(c_ptr), intent(in) :: fe
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(out) :: ids(:)
+    integer, intent(out) :: n
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t) :: count
+    jp_fe_node_set = finish(jprom_fe_model_node_set(fe, trim(name) // c_null_char, ids, int(size(ids), c_size_t), count), message)
+    n = int(count)
+  end function
+
+  !> Node-to-ground 3D friction contact on a node; frame(3, 3): rows t1, t2, n.
+  integer function jp_fe_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0, message)
+    use jprom_c, only: jprom_fe_add_contact
+    type(c_ptr), intent(in) :: fe
+    integer(c_int64_t), intent(in) :: node
+    real(c_double), intent(in) :: frame(3, 3), kt1, kt2, kn, mu, n0
+    character(len=*), intent(out), optional :: message
+    real(c_double) :: rows(9)
+    rows = reshape(transpose(frame), [9])
+    jp_fe_add_contact = finish(jprom_fe_add_contact(fe, node, rows, kt1, kt2, kn, mu, n0), message)
+  end function
+
+  !> Force f(3) on a node: harmonic 0 = static load, 1 = first harmonic (cos part).
+  integer function jp_fe_add_force(fe, node, harmonic, f, message)
+    use jprom_c, only: jprom_fe_add_force
+    type(c_ptr), intent(in) :: fe
+    integer(c_int64_t), intent(in) :: node
+    integer, intent(in) :: harmonic
+    real(c_double), intent(in) :: f(3)
+    character(len=*), intent(out), optional :: message
+    jp_fe_add_force = finish(jprom_fe_add_force(fe, node, int(harmonic, c_size_t), f), message)
+  end function
+
+  !> Output: direction 1, 2 or 3 (x, y, z) of a node; outputs are numbered in the order added.
+  integer function jp_fe_add_output(fe, node, direction, message)
+    use jprom_c, only: jprom_fe_add_output
+    type(c_ptr), intent(in) :: fe
+    integer(c_int64_t), intent(in) :: node
+    integer, intent(in) :: direction
+    character(len=*), intent(out), optional :: message
+    jp_fe_add_output = finish(jprom_fe_add_output(fe, node, int(direction - 1, c_size_t)), message)
+  end function
+
+  !> Craig-Bampton reduction (contact, loaded and output nodes + cb_modes modes) to a model.
+  integer function jp_fe_reduce(fe, cb_modes, model, message)
+    use jprom_c, only: jprom_fe_reduce
+    type(c_ptr), intent(in) :: fe
+    integer, intent(in) :: cb_modes
+    type(c_ptr), intent(out) :: model
+    character(len=*), intent(out), optional :: message
+    jp_fe_reduce = finish(jprom_fe_reduce(fe, int(cb_modes, c_size_t), model), message)
+  end function
+
+  !> Scale of the harmonic excitation.
+  integer function jp_set_dynamic_scale(model, scale, message)
+    use jprom_c, only: jprom_model_set_dynamic_scale
+    type(c_ptr), intent(in) :: model
+    real(c_double), intent(in) :: scale
+    character(len=*), intent(out), optional :: message
+    jp_set_dynamic_scale = finish(jprom_model_set_dynamic_scale(model, scale), message)
   end function
 end module jprom

@@ -163,6 +163,10 @@ typedef enum {
 // A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
 typedef struct jprom_basis jprom_basis;
 
+// Opaque FE model with what is placed on it so far. Created by `jprom_fe_model_new_csc` or
+// `jprom_fe_model_load_calculix`, released with `jprom_fe_model_free`.
+typedef struct jprom_fe_model jprom_fe_model;
+
 // Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
 // Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
 // `jprom_model_clone`; owned by the caller, released with `jprom_model_free`.
@@ -261,6 +265,79 @@ extern "C" {
 // Number of live handles of all kinds in the process (diagnostic, e.g. for leak checks in
 // tests: it returns to its earlier value once everything created has been freed).
 jprom_status jprom_live_handle_count(size_t *out);
+
+// Creates an FE model from sparse symmetric stiffness and mass matrices in compressed sparse
+// column form (0-based, both triangles, duplicates summed; `n` up to what the memory budget
+// allows: nothing dense of size `n` is formed) and its nodes: `node_ids[n_nodes]` and
+// `node_rows[6 * n_nodes]`, the matrix rows of each node's directions x, y, z, rx, ry, rz
+// (`-1` for a direction the node does not have, e.g. fixed). A row may belong to one node
+// only. `*out` is written only on success; free it with `jprom_fe_model_free`.
+jprom_status jprom_fe_model_new_csc(size_t n,
+                                    const size_t *stiffness_colptr,
+                                    const size_t *stiffness_rowind,
+                                    const double *stiffness_values,
+                                    const size_t *mass_colptr,
+                                    const size_t *mass_rowind,
+                                    const double *mass_values,
+                                    size_t n_nodes,
+                                    const int64_t *node_ids,
+                                    const int64_t *node_rows,
+                                    jprom_fe_model **out);
+
+// Reads a CalculiX model: `inp` is the deck of a `*FREQUENCY, SOLVER=MATRIXSTORAGE` run; its
+// `.sti`, `.mas` and `.dof` (same job name) give `K`, `M` and the rows, the deck the node
+// coordinates and `*NSET`s (`jprom_fe_model_node_set`). Rows of fixed DoFs are absent, so a
+// clamped node has no DoF. `*out` is written only on success.
+jprom_status jprom_fe_model_load_calculix(const char *inp, jprom_fe_model **out);
+
+// Releases an FE model (NULL is a no-op).
+jprom_status jprom_fe_model_free(jprom_fe_model *fe);
+
+// Number of DoFs (rows of `K`).
+jprom_status jprom_fe_model_n_dof(const jprom_fe_model *fe, size_t *out);
+
+// The node ids of the node set `name` (case-insensitive; CalculiX `*NSET`s) into `ids` of
+// capacity `len`; `*count` (may be NULL) receives the set's size. `ids` may be NULL with
+// `len = 0` to ask the size. `JPROM_BAD_SIZE` (nothing written) if `len` is nonzero but below
+// the size; `JPROM_INVALID_VALUE` naming the sets there are if there is no such set.
+jprom_status jprom_fe_model_node_set(const jprom_fe_model *fe,
+                                     const char *name,
+                                     int64_t *ids,
+                                     size_t len,
+                                     size_t *count);
+
+// Places a node-to-ground 3D friction contact on node `node` (its x, y, z DoFs) with
+// `frame[9]` (row-major rows `t1`, `t2`, `n`, as in `jprom_model_add_contact_3d`) and the law
+// `kt1, kt2, kn, mu >= 0`, preload `n0`. Contacts keep the order they are added in.
+jprom_status jprom_fe_add_contact(jprom_fe_model *fe,
+                                  int64_t node,
+                                  const double *frame,
+                                  double kt1,
+                                  double kt2,
+                                  double kn,
+                                  double mu,
+                                  double n0);
+
+// Adds the force `force[3]` (x, y, z) on node `node` to harmonic `harmonic`: 0 the static load
+// `f_E^0`, 1 the first harmonic (cos part).
+jprom_status jprom_fe_add_force(jprom_fe_model *fe,
+                                int64_t node,
+                                size_t harmonic,
+                                const double *force);
+
+// Adds an output: direction `direction` (0, 1, 2: x, y, z) of node `node`. Outputs keep the
+// order they are added in (output `j` of the reduced model is the `j`-th added).
+jprom_status jprom_fe_add_output(jprom_fe_model *fe, int64_t node, size_t direction);
+
+// Keeps node `node` (its x, y, z) in the reduced model although nothing is placed on it.
+jprom_status jprom_fe_keep_node(jprom_fe_model *fe, int64_t node);
+
+// Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
+// loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
+// new model has no damping (set it with `jprom_model_set_rayleigh_damping` or
+// `jprom_model_set_modal_damping`); its contact `i` is the `i`-th added, its output `j` the
+// `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
+jprom_status jprom_fe_reduce(const jprom_fe_model *fe, size_t cb_modes, jprom_model **out);
 
 // Predicts a JP basis for `model` without any full-order solution: boundary conditions
 // sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at

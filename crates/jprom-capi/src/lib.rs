@@ -13,6 +13,7 @@
 
 pub(crate) mod guard;
 pub(crate) mod handle;
+pub mod fe;
 pub mod jp;
 pub mod limits;
 pub mod model;
@@ -20,6 +21,7 @@ pub mod solve;
 pub mod status;
 mod versioned;
 
+pub use fe::*;
 pub use jp::*;
 pub use limits::*;
 pub use model::*;

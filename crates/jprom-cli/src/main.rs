@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
-//! jprom run   STUDY [--out DIR]    a study file (see examples/demo_study.toml)
+//! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
 //! jprom check STUDY                validate a study file only
 //! ```
 //!
@@ -28,7 +28,7 @@ exit status: 0 done (every output written), 1 the run failed (model, solver or a
 that could not be written), 2 bad command line or invalid study, 3 a sweep did not cover its
 band (results kept; --keep-partial makes it 0)";
 
-/// The demo's study (also in examples/demo_study.toml).
+/// The demo's study (crates/jprom-cli/demo_study.toml).
 pub const DEMO_STUDY: &str = include_str!("../demo_study.toml");
 
 /// Why `jprom` stops: the exit status and the message.
