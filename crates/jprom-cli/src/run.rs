@@ -361,6 +361,104 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
 }
 
+/// Energy errors of the ROM rows, relative to the largest energy per contact node met in the
+/// study (never round-off: a stuck contact dissipates exactly zero); a level without slip says
+/// so. `energies_at_peak`: per ROM row (index into `rows`), the FO and ROM energies per contact.
+fn energy_errors(rows: &mut [SolverRow], energies_at_peak: &[(usize, Vec<f64>, Vec<f64>)]) {
+    let largest = energies_at_peak.iter().flat_map(|(_, a, b)| a.iter().chain(b)).fold(0.0f64, |m, &e| m.max(e));
+    for (i, fo_w, rom_w) in energies_at_peak {
+        if fo_w.iter().all(|&e| e == 0.0) && rom_w.iter().all(|&e| e == 0.0) {
+            rows[*i].warnings.push("every contact sticks at the full-order resonance: no friction dissipation".into());
+        } else if !rom_w.is_empty() && largest > 0.0 {
+            rows[*i].energy_error = Some(rom_w.iter().zip(fo_w).map(|(a, b)| (a - b).abs() / largest).fold(0.0, f64::max));
+        }
+    }
+}
+
+/// The study's figures: FRF and dissipated energy per level, predicted vs actual error and
+/// error vs level over the levels, error vs basis size per level (gamma study).
+fn write_study_plots(
+    study: &Study,
+    out_dir: &Path,
+    summary: &RunSummary,
+    frf_series: &[(f64, Vec<Series>)],
+    energy_series: &[(f64, Vec<Series>)],
+    err_points: Vec<(String, Vec<(f64, f64)>)>,
+) -> Result<()> {
+    for (level, series) in frf_series {
+        let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
+    }
+    for (level, series) in energy_series {
+        let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
+        let title = if stuck {
+            format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}")
+        } else {
+            format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}")
+        };
+        let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
+        write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
+    }
+    if !err_points.is_empty() {
+        let mut series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
+        for solver in ["FR", "NLR"] {
+            let pts: Vec<(f64, f64)> = summary
+                .basis_study
+                .iter()
+                .filter(|r| r.solver == solver)
+                .filter_map(|r| Some((r.actual_e1?, r.predicted_e1?)))
+                .collect();
+            if !pts.is_empty() {
+                series.push(Series::markers(format!("{solver}, gamma study"), pts));
+            }
+        }
+        let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at the FO resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
+        write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
+        let mut by_solver: Vec<Series> = Vec::new();
+        for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
+            let p = (r.level, r.error_x1.unwrap().max(1e-16));
+            match by_solver.iter_mut().find(|s| s.label == r.solver) {
+                Some(s) => s.points.push(p),
+                None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
+            }
+        }
+        let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
+    }
+    for &level in &study.forcing.levels {
+        let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        // per solver one colour: |X1| error (line), actual e_1 (line + squares), e*_1 (circles)
+        let mut series: Vec<Series> = Vec::new();
+        for (color, solver) in [(1usize, "FR"), (2, "NLR")] {
+            for (style, what, get) in [
+                (0, "error of |X1|", (|r: &BasisStudyRow| r.error_x1) as fn(&BasisStudyRow) -> Option<f64>),
+                (1, "actual e_1", |r: &BasisStudyRow| r.actual_e1),
+                (2, "predicted e*_1", |r: &BasisStudyRow| r.predicted_e1),
+            ] {
+                let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.solver == solver).filter_map(|r| get(r).map(|e| (r.sizes.get(1).copied().unwrap_or(0) as f64, e.max(1e-16)))).collect();
+                if !pts.is_empty() {
+                    let label = format!("{solver}: {what}");
+                    let s = match style {
+                        0 => Series::line(label, pts),
+                        1 => Series::line_and_markers(label, pts),
+                        _ => Series::markers(label, pts),
+                    };
+                    series.push(s.color(color));
+                }
+            }
+        }
+        let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}");
+        let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
+    }
+
+    Ok(())
+}
+
 /// Runs the study and writes its results into `out_dir`; `show_progress` draws progress bars
 /// on stderr.
 ///
@@ -572,16 +670,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         energy_series.push((level, energies));
     }
 
-    // Energy errors relative to the largest energy per contact node met in the study (never
-    // round-off: a stuck contact dissipates exactly zero); a level without slip says so.
-    let largest = energies_at_peak.iter().flat_map(|(_, a, b)| a.iter().chain(b)).fold(0.0f64, |m, &e| m.max(e));
-    for (i, fo_w, rom_w) in &energies_at_peak {
-        if fo_w.iter().all(|&e| e == 0.0) && rom_w.iter().all(|&e| e == 0.0) {
-            rows[*i].warnings.push("every contact sticks at the full-order resonance: no friction dissipation".into());
-        } else if !rom_w.is_empty() && largest > 0.0 {
-            rows[*i].energy_error = Some(rom_w.iter().zip(fo_w).map(|(a, b)| (a - b).abs() / largest).fold(0.0, f64::max));
-        }
-    }
+    energy_errors(&mut rows, &energies_at_peak);
     let incomplete = rows
         .iter()
         .filter(|r| !r.complete)
@@ -602,76 +691,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     };
     jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
     if study.output.plots {
-        for (level, series) in &frf_series {
-            let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
-            write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
-        }
-        for (level, series) in &energy_series {
-            let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
-            let title = if stuck {
-                format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}")
-            } else {
-                format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}")
-            };
-            let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
-            write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
-        }
-        if !err_points.is_empty() {
-            let mut series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
-            for solver in ["FR", "NLR"] {
-                let pts: Vec<(f64, f64)> = summary
-                    .basis_study
-                    .iter()
-                    .filter(|r| r.solver == solver)
-                    .filter_map(|r| Some((r.actual_e1?, r.predicted_e1?)))
-                    .collect();
-                if !pts.is_empty() {
-                    series.push(Series::markers(format!("{solver}, gamma study"), pts));
-                }
-            }
-            let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at the FO resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
-            write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
-            let mut by_solver: Vec<Series> = Vec::new();
-            for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
-                let p = (r.level, r.error_x1.unwrap().max(1e-16));
-                match by_solver.iter_mut().find(|s| s.label == r.solver) {
-                    Some(s) => s.points.push(p),
-                    None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
-                }
-            }
-            let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
-            write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
-        }
-        for &level in &study.forcing.levels {
-            let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
-            if rows.is_empty() {
-                continue;
-            }
-            // per solver one colour: |X1| error (line), actual e_1 (line + squares), e*_1 (circles)
-            let mut series: Vec<Series> = Vec::new();
-            for (color, solver) in [(1usize, "FR"), (2, "NLR")] {
-                for (style, what, get) in [
-                    (0, "error of |X1|", (|r: &BasisStudyRow| r.error_x1) as fn(&BasisStudyRow) -> Option<f64>),
-                    (1, "actual e_1", |r: &BasisStudyRow| r.actual_e1),
-                    (2, "predicted e*_1", |r: &BasisStudyRow| r.predicted_e1),
-                ] {
-                    let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.solver == solver).filter_map(|r| get(r).map(|e| (r.sizes.get(1).copied().unwrap_or(0) as f64, e.max(1e-16)))).collect();
-                    if !pts.is_empty() {
-                        let label = format!("{solver}: {what}");
-                        let s = match style {
-                            0 => Series::line(label, pts),
-                            1 => Series::line_and_markers(label, pts),
-                            _ => Series::markers(label, pts),
-                        };
-                        series.push(s.color(color));
-                    }
-                }
-            }
-            let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}");
-            let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
-            write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
-        }
+        write_study_plots(study, out_dir, &summary, &frf_series, &energy_series, err_points)?;
     }
     if !summary.basis_study.is_empty() {
         write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;
