@@ -6,7 +6,7 @@
 //! places contacts, forces, outputs and extra nodes on node ids (`jprom_fe_add_*`, checked at
 //! once), and calls `jprom_fe_reduce`, which returns a new `jprom_model` for the rest of the API.
 
-use super::guard::{ffi_guard, finite_arg, out_arg, path_arg, slice_arg, slice_out};
+use super::guard::{csc_entries, ffi_guard, finite_arg, out_arg, path_arg, slice_arg, slice_out};
 use super::handle::{self, Handle};
 use super::model::jprom_model;
 use super::status::jprom_status::{self, *};
@@ -45,29 +45,14 @@ fn wrap(fe: FeModel, sets: BTreeMap<String, Vec<i64>>) -> *mut jprom_fe_model {
     handle::into_raw(jprom_fe_model { magic: jprom_fe_model::MAGIC, fe, sets, spec: Reduction::default() })
 }
 
-/// A CSC matrix from the caller, checked, as a sparse matrix (duplicates summed).
+/// A CSC matrix from the caller, checked ([`csc_entries`], finite values), as a sparse matrix
+/// (duplicates summed).
 unsafe fn csc_arg(name: &str, n: usize, colptr: *const usize, rowind: *const usize, values: *const f64) -> Result<SparseMat, FfiError> {
-    let cp = slice_arg(colptr, n + 1, &format!("{name}_colptr"))?;
-    if cp[0] != 0 || cp.windows(2).any(|w| w[1] < w[0]) {
-        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_colptr must start at 0 and be non-decreasing")));
+    let entries = csc_entries(name, n, colptr, rowind, values)?;
+    if let Some(p) = entries.iter().position(|e| !e.2.is_finite()) {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_values[{p}] is not finite")));
     }
-    let nnz = cp[n];
-    jprom::memory::check(&format!("the {name} matrix ({nnz} entries)"), jprom::memory::bytes_of::<(usize, usize, f64)>(nnz as u128))?;
-    let ri = slice_arg(rowind, nnz, &format!("{name}_rowind"))?;
-    let va = slice_arg(values, nnz, &format!("{name}_values"))?;
-    let mut triplets = Vec::with_capacity(nnz);
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            if ri[p] >= n {
-                return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_rowind[{p}] = {} is >= n = {n}", ri[p])));
-            }
-            if !va[p].is_finite() {
-                return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_values[{p}] is not finite")));
-            }
-            triplets.push((ri[p], j, va[p]));
-        }
-    }
-    Ok(sparse_from_triplets(n, n, triplets)?)
+    Ok(sparse_from_triplets(n, n, entries)?)
 }
 
 /// Creates an FE model from sparse symmetric stiffness and mass matrices in compressed sparse

@@ -104,3 +104,36 @@ pub(crate) fn finite_arg(name: &str, v: f64) -> Result<f64, FfiError> {
         Err(FfiError::new(JPROM_INVALID_VALUE, format!("'{name}' must be finite, got {v}")))
     }
 }
+
+/// A caller's compressed-sparse-column `n x n` matrix `name` (`{name}_colptr[n + 1]` from 0,
+/// non-decreasing; `{name}_rowind` and `{name}_values` of `colptr[n]` entries, rows `< n`),
+/// checked, as its entries `(row, column, value)` in column order.
+///
+/// # Safety
+/// As [`slice_arg`] for each of the three arrays.
+pub(crate) unsafe fn csc_entries<'a>(
+    name: &str,
+    n: usize,
+    colptr: *const usize,
+    rowind: *const usize,
+    values: *const f64,
+) -> Result<Vec<(usize, usize, f64)>, FfiError> {
+    let cp: &'a [usize] = slice_arg(colptr, n + 1, &format!("{name}_colptr"))?;
+    if cp[0] != 0 || cp.windows(2).any(|w| w[1] < w[0]) {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_colptr must start at 0 and be non-decreasing")));
+    }
+    let nnz = cp[n];
+    jprom::memory::check(&format!("the {name} matrix ({nnz} entries)"), jprom::memory::bytes_of::<(usize, usize, f64)>(nnz as u128))?;
+    let ri = slice_arg(rowind, nnz, &format!("{name}_rowind"))?;
+    let va = slice_arg(values, nnz, &format!("{name}_values"))?;
+    let mut entries = Vec::with_capacity(nnz);
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            if ri[p] >= n {
+                return Err(FfiError::new(JPROM_INVALID_VALUE, format!("{name}_rowind[{p}] = {} is >= n = {n}", ri[p])));
+            }
+            entries.push((ri[p], j, va[p]));
+        }
+    }
+    Ok(entries)
+}

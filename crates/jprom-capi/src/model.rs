@@ -3,7 +3,7 @@
 //! A model starts from `M` and `K` and is completed by setters; each setter validates the
 //! whole model and leaves it unchanged on failure.
 
-use super::guard::{ffi_guard, finite_arg, mul_size, out_arg, path_arg, slice_arg};
+use super::guard::{csc_entries, ffi_guard, finite_arg, mul_size, out_arg, path_arg, slice_arg};
 use super::handle::{self, Handle};
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
@@ -99,28 +99,9 @@ unsafe fn csc_to_dense(
     rowind: *const usize,
     values: *const f64,
 ) -> std::result::Result<Mat<f64>, FfiError> {
-    let cp = slice_arg(colptr, n + 1, &format!("{name}_colptr"))?;
-    if cp[0] != 0 || cp.windows(2).any(|w| w[1] < w[0]) {
-        return Err(FfiError::new(
-            JPROM_INVALID_VALUE,
-            format!("{name}_colptr must start at 0 and be non-decreasing"),
-        ));
-    }
-    let nnz = cp[n];
-    let ri = slice_arg(rowind, nnz, &format!("{name}_rowind"))?;
-    let va = slice_arg(values, nnz, &format!("{name}_values"))?;
     let mut a = Mat::<f64>::zeros(n, n);
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            let i = ri[p];
-            if i >= n {
-                return Err(FfiError::new(
-                    JPROM_INVALID_VALUE,
-                    format!("{name}_rowind[{p}] = {i} is >= n = {n}"),
-                ));
-            }
-            a[(i, j)] += va[p];
-        }
+    for (i, j, v) in csc_entries(name, n, colptr, rowind, values)? {
+        a[(i, j)] += v;
     }
     Ok(a)
 }

@@ -6,34 +6,9 @@
 #include <stdio.h>
 #include <string.h>
 #include "jprom.h"
+#include "two_node_model.h"
 
-#define N 6
 
-static jprom_model *example_model(void) {
-    double mass[N * N] = {0}, stiffness[N * N] = {0};
-    for (int d = 0; d < 3; ++d) {
-        int a = d, b = 3 + d;
-        mass[a + a * N] = 1.0;
-        mass[b + b * N] = 1.0;
-        stiffness[a + a * N] = 2.0e4;
-        stiffness[b + b * N] = 1.0e4;
-        stiffness[a + b * N] = -1.0e4;
-        stiffness[b + a * N] = -1.0e4;
-    }
-    jprom_model *model = NULL;
-    const size_t node1[3] = {3, 4, 5}, outputs[2] = {0, 3};
-    const double frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    double f1_cos[N] = {1.0, 0, 0, 0, 0, 0}, f1_sin[N] = {0}; /* stuck at the band start */
-    if (jprom_model_new(N, mass, stiffness, &model) != JPROM_OK
-        || jprom_model_add_contact_3d(model, node1, NULL, frame, 3.0e4, 3.0e4, 5.0e4, 0.5, 20.0) != JPROM_OK
-        || jprom_model_set_rayleigh_damping(model, 0.0, 1.0e-4) != JPROM_OK
-        || jprom_model_set_harmonic_force(model, 1, f1_cos, f1_sin, N) != JPROM_OK
-        || jprom_model_set_output_dofs(model, outputs, 2) != JPROM_OK) {
-        fprintf(stderr, "model: %s\n", jprom_last_error_message());
-        return NULL;
-    }
-    return model;
-}
 
 /* Sweeps with max_iterations = iterations; returns the end reason, or -1 on failure. */
 static int sweep_end(jprom_model *model, size_t iterations) {
@@ -68,7 +43,7 @@ static int sweep_end(jprom_model *model, size_t iterations) {
 }
 
 int main(void) {
-    jprom_model *model = example_model();
+    jprom_model *model = two_node_model(1.0);
     if (!model) return 1;
     int normal = sweep_end(model, 400);
     int forced = sweep_end(model, 1);
