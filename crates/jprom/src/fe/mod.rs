@@ -25,5 +25,5 @@ pub mod nodal;
 pub use blade::{BladeFe, BladeParams, BuiltinBlade, CbModel, ContactNode};
 pub use blade_pair::{BladePair, PairParams, PairSite};
 pub use craig_bampton::{CbOptions, CraigBampton};
-pub use nodal::{FeModel, FeNode, NodalContact, NodalForce, Reduction};
+pub use nodal::{contact_frame, cylindrical_frame, FeModel, FeNode, NodalContact, NodalForce, RadialSense, Reduction};
 pub use plate::{PlateContact, PlateFe, PlateParams};

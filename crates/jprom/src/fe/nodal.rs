@@ -48,11 +48,115 @@ impl FeNode {
     }
 }
 
-/// An FE model: `K`, `M` (`n x n`, full symmetric storage) and its nodes.
+impl FeNode {
+    /// The cylindrical contact frame of this node about an axis ([`cylindrical_frame`] at its
+    /// coordinates).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the node if it has no coordinates; as
+    /// [`cylindrical_frame`].
+    pub fn cylindrical_frame(&self, origin: [f64; 3], direction: [f64; 3], sense: RadialSense) -> Result<[[f64; 3]; 3]> {
+        let p = self.coords.ok_or_else(|| {
+            JpError::invalid(format!("node {}", self.id), "has no coordinates: a cylindrical contact frame needs them (give its normal instead)")
+        })?;
+        cylindrical_frame(p, origin, direction, sense).map_err(|e| match e {
+            JpError::InvalidValue { what, reason } if what == "point" => JpError::invalid(format!("node {}", self.id), reason),
+            other => other,
+        })
+    }
+}
+
+fn norm3(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// A contact frame, rows `t1, t2, n` (unit, right-handed: `t2 = n x t1`), from the normal
+/// `normal` (pointing into the ground; any nonzero length) and a first tangent `tangent`, of
+/// which the part normal to `n` is taken; without one, `t1` is the global axis least aligned
+/// with `n` (the first one on ties), made normal to `n`.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] with `what` = `"normal"` for a zero or non-finite normal,
+/// `"tangent"` for a tangent that is zero, not finite or parallel to the normal.
+pub fn contact_frame(normal: [f64; 3], tangent: Option<[f64; 3]>) -> Result<[[f64; 3]; 3]> {
+    let nn = norm3(normal);
+    if !(nn.is_finite() && nn > 0.0) {
+        return Err(JpError::invalid("normal", format!("must be a finite nonzero vector, got {normal:?}")));
+    }
+    let n = normal.map(|x| x / nn);
+    let t = match tangent {
+        Some(t) => t,
+        None => {
+            let k = (0..3).min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(0);
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            e
+        }
+    };
+    let d = dot3(t, n);
+    let t1 = [t[0] - d * n[0], t[1] - d * n[1], t[2] - d * n[2]];
+    let nt = norm3(t1);
+    if !(nt.is_finite() && nt > 1e-6 * norm3(t).max(f64::MIN_POSITIVE)) {
+        return Err(JpError::invalid("tangent", format!("tangent {t:?} is zero, not finite or parallel to the normal")));
+    }
+    let t1 = t1.map(|x| x / nt);
+    let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
+    Ok([t1, t2, n])
+}
+
+/// Which way the normal of a cylindrical contact frame points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadialSense {
+    /// Away from the axis: the ground is outside (a casing around blade tips).
+    Outward,
+    /// Towards the axis: the ground is inside (a hub, a disk under a blade root).
+    Inward,
+}
+
+/// The cylindrical contact frame at `point` about the axis through `origin` along `direction`:
+/// `n = ± r / |r|`, with `r` the part of `point - origin` normal to the axis (`+` for
+/// [`RadialSense::Outward`]), `t1` the unit axis direction, `t2 = n x t1` (circumferential).
+///
+/// # Errors
+/// [`JpError::InvalidValue`]: `what` = `"axis"` for a zero or non-finite direction or a
+/// non-finite origin, `"point"` for a non-finite point or one on the axis (closer to it than
+/// 1e-9 times its distance from `origin`, or exactly on it), where the radial direction is
+/// undefined.
+pub fn cylindrical_frame(point: [f64; 3], origin: [f64; 3], direction: [f64; 3], sense: RadialSense) -> Result<[[f64; 3]; 3]> {
+    let na = norm3(direction);
+    if !(na.is_finite() && na > 0.0) || origin.iter().any(|x| !x.is_finite()) {
+        return Err(JpError::invalid("axis", format!("needs a finite origin and a finite nonzero direction, got origin {origin:?}, direction {direction:?}")));
+    }
+    if point.iter().any(|x| !x.is_finite()) {
+        return Err(JpError::invalid("point", format!("coordinates {point:?} are not finite")));
+    }
+    let a = direction.map(|x| x / na);
+    let v = [point[0] - origin[0], point[1] - origin[1], point[2] - origin[2]];
+    let h = dot3(v, a);
+    let r = [v[0] - h * a[0], v[1] - h * a[1], v[2] - h * a[2]];
+    let nr = norm3(r);
+    if !(nr > 1e-9 * norm3(v)) {
+        return Err(JpError::invalid("point", format!("at {point:?} lies on the axis: its radial direction is undefined")));
+    }
+    let s = if sense == RadialSense::Outward { 1.0 } else { -1.0 };
+    let n = r.map(|x| s * x / nr);
+    let t2 = [n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]];
+    Ok([a, t2, n])
+}
+
+/// An FE model: `K`, `M` (`n x n`, full symmetric storage), optionally a viscous damping
+/// matrix `C`, and its nodes.
 #[derive(Clone, Debug)]
 pub struct FeModel {
     pub stiffness: SparseMat,
     pub mass: SparseMat,
+    /// Viscous damping `C` of the FE code ([`FeModel::set_damping`]); reduced with `K` and `M`
+    /// and added to the reduced model's Rayleigh damping.
+    damping: Option<SparseMat>,
     nodes: Vec<FeNode>,
     by_id: HashMap<i64, usize>,
 }
@@ -122,7 +226,7 @@ impl FeModel {
                 owner[r] = Some((node.id, d));
             }
         }
-        Ok(FeModel { stiffness, mass, nodes, by_id })
+        Ok(FeModel { stiffness, mass, damping: None, nodes, by_id })
     }
 
     /// From matrices and a jprom DoF map (three translations per node).
@@ -171,6 +275,54 @@ impl FeModel {
     /// Number of DoFs.
     pub fn n_dof(&self) -> usize {
         self.stiffness.nrows()
+    }
+
+    /// Sets the viscous damping matrix `C` (sparse, symmetric, full storage, the size of `K`).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] for another size, [`JpError::InvalidValue`] for a value that is not
+    /// finite or a matrix that is not symmetric (to [`crate::model::SYMMETRY_TOLERANCE`]).
+    pub fn set_damping(&mut self, c: SparseMat) -> Result<()> {
+        let n = self.n_dof();
+        if c.nrows() != n || c.ncols() != n {
+            return Err(JpError::bad_size("damping matrix C (rows and columns)", n, if c.nrows() != n { c.nrows() } else { c.ncols() }));
+        }
+        crate::error::check_finite("damping matrix C", c.val())?;
+        if let Some((i, j, a_ij, a_ji)) = crate::linalg::sparse::first_asymmetry(&c, crate::model::SYMMETRY_TOLERANCE) {
+            return Err(JpError::invalid("damping matrix C", format!("is not symmetric: entry ({i}, {j}) = {a_ij:e} while ({j}, {i}) = {a_ji:e}")));
+        }
+        self.damping = Some(c);
+        Ok(())
+    }
+
+    /// The `n_modes` lowest natural frequencies in Hz of the FE model on its own supports (no
+    /// contact), by shift-invert Lanczos on one sparse Cholesky factor: of `K`, or, if `K` is
+    /// singular (a free structure with rigid-body modes, reported as 0 Hz), of `K + s M` with a
+    /// small shift `s` (`1e-6` times the mean `K_ii / M_ii`), whose eigenvalues are shifted back.
+    ///
+    /// # Errors
+    /// [`JpError::SingularMatrix`] if neither factor exists; the eigensolver's errors.
+    pub fn natural_frequencies_hz(&self, n_modes: usize) -> Result<Vec<f64>> {
+        use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
+        let (chol, shift) = match SparseCholesky::factor(&self.stiffness, "FE stiffness K") {
+            Ok(c) => (c, 0.0),
+            Err(JpError::SingularMatrix { .. }) => {
+                let diag = |a: &SparseMat| -> f64 { crate::linalg::sparse::sparse_triplets(a).iter().filter(|t| t.0 == t.1).map(|t| t.2).sum() };
+                let shift = 1e-6 * diag(&self.stiffness) / diag(&self.mass);
+                let mut t = crate::linalg::sparse::sparse_triplets(&self.stiffness);
+                t.extend(crate::linalg::sparse::sparse_triplets(&self.mass).into_iter().map(|(i, j, v)| (i, j, shift * v)));
+                let shifted = crate::linalg::sparse_from_triplets(self.n_dof(), self.n_dof(), t)?;
+                (SparseCholesky::factor(&shifted, "shifted FE stiffness K + s M (a free structure)")?, shift)
+            }
+            Err(e) => return Err(e),
+        };
+        let modes = lowest_modes(&chol, &self.mass, n_modes)?;
+        Ok(modes.eigenvalues.iter().map(|l| (l - shift).max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect())
+    }
+
+    /// The viscous damping matrix `C`, if set.
+    pub fn damping(&self) -> Option<&SparseMat> {
+        self.damping.as_ref()
     }
 
     /// The nodes, in the order given.
@@ -222,7 +374,8 @@ impl FeModel {
         for &id in &boundary_nodes {
             boundary.extend(self.node(id)?.translations()?);
         }
-        let cb = CraigBampton::reduce(&self.stiffness, &self.mass, &boundary, CbOptions { n_modes: spec.cb_modes, keep_recovery: false })?;
+        let options = CbOptions { n_modes: spec.cb_modes, keep_recovery: false };
+        let cb = CraigBampton::reduce_with_damping(&self.stiffness, &self.mass, self.damping.as_ref(), &boundary, options)?;
         let n_red = cb.n_reduced();
         let place = |forces: &[NodalForce]| {
             let mut f = vec![0.0; n_red];
@@ -249,5 +402,51 @@ impl FeModel {
             cb,
         };
         model.to_model(damping)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-14)
+    }
+
+    #[test]
+    fn contact_frames_are_orthonormal_and_refuse_bad_vectors() {
+        let f = contact_frame([0.0, 0.0, -2.0], Some([1.0, 0.0, 0.5])).unwrap();
+        assert!(close(f[2], [0.0, 0.0, -1.0]) && close(f[0], [1.0, 0.0, 0.0]) && close(f[1], [0.0, -1.0, 0.0]), "{f:?}");
+        // default tangent: the axis least aligned with n
+        let f = contact_frame([1.0, 0.0, 0.0], None).unwrap();
+        assert!(close(f[0], [0.0, 1.0, 0.0]), "{f:?}");
+        assert!(matches!(contact_frame([0.0; 3], None), Err(JpError::InvalidValue { what, .. }) if what == "normal"));
+        assert!(matches!(contact_frame([1.0, 0.0, 0.0], Some([-2.0, 0.0, 0.0])), Err(JpError::InvalidValue { what, .. }) if what == "tangent"));
+    }
+
+    #[test]
+    fn cylindrical_frames_point_radially_with_the_axis_as_first_tangent() {
+        // axis z through (1, 1, 0): a node at (1, 3, 7) is 2 out along +y
+        let f = cylindrical_frame([1.0, 3.0, 7.0], [1.0, 1.0, 0.0], [0.0, 0.0, 5.0], RadialSense::Outward).unwrap();
+        assert!(close(f[2], [0.0, 1.0, 0.0]) && close(f[0], [0.0, 0.0, 1.0]), "{f:?}");
+        // right-handed: t2 = n x t1
+        assert!(close(f[1], [1.0, 0.0, 0.0]), "{f:?}");
+        let g = cylindrical_frame([1.0, 3.0, 7.0], [1.0, 1.0, 0.0], [0.0, 0.0, 1.0], RadialSense::Inward).unwrap();
+        assert!(close(g[2], [0.0, -1.0, 0.0]), "{g:?}");
+        // off-axis direction: n is normal to the axis
+        let h = cylindrical_frame([3.0, 4.0, 5.0], [0.0; 3], [1.0, 1.0, 0.0], RadialSense::Outward).unwrap();
+        assert!(dot3(h[2], [1.0, 1.0, 0.0]).abs() < 1e-14 && (norm3(h[2]) - 1.0).abs() < 1e-14, "{h:?}");
+        assert!(matches!(cylindrical_frame([0.0, 0.0, 3.0], [0.0; 3], [0.0, 0.0, 1.0], RadialSense::Outward), Err(JpError::InvalidValue { what, .. }) if what == "point"));
+        assert!(matches!(cylindrical_frame([1.0, 0.0, 0.0], [0.0; 3], [0.0; 3], RadialSense::Outward), Err(JpError::InvalidValue { what, .. }) if what == "axis"));
+    }
+
+    #[test]
+    fn a_node_without_coordinates_has_no_cylindrical_frame() {
+        let node = FeNode { id: 42, coords: None, dofs: [Some(0), Some(1), Some(2), None, None, None] };
+        let e = node.cylindrical_frame([0.0; 3], [0.0, 0.0, 1.0], RadialSense::Outward).unwrap_err().to_string();
+        assert!(e.contains("node 42") && e.contains("no coordinates"), "{e}");
+        let on_axis = FeNode { coords: Some([0.0, 0.0, 1.0]), ..node };
+        let e = on_axis.cylindrical_frame([0.0; 3], [0.0, 0.0, 1.0], RadialSense::Outward).unwrap_err().to_string();
+        assert!(e.contains("node 42") && e.contains("on the axis"), "{e}");
     }
 }

@@ -81,7 +81,19 @@ impl DofMap {
             format: Option<String>,
             kind: Option<String>,
         }
-        let tag: Tag = serde_json::from_str(text).map_err(perr)?;
+        let tag: Tag = serde_json::from_str(text).map_err(|e| {
+            if e.is_syntax() || e.is_eof() || e.is_data() {
+                // not JSON at all (a Matrix Market or CSV file given as the map, say): say what was expected
+                let what = if e.is_data() { "not a JSON object" } else { "not JSON" };
+                JpError::Parse {
+                    path: name.to_string(),
+                    line: e.line(),
+                    reason: format!("{what} ({e}): a DoF map is a JSON object {{\"format\": \"{DOF_MAP_FORMAT}\", \"version\": 1, \"n_dof\": ..., \"nodes\": [{{\"id\": ..., \"coords\": [x, y, z], \"dofs\": [rx, ry, rz]}}, ...]}}"),
+                }
+            } else {
+                perr(e)
+            }
+        })?;
         match (tag.format.as_deref(), tag.kind.as_deref()) {
             (Some(DOF_MAP_FORMAT), _) => {}
             (Some("jprom"), Some(kind)) => {

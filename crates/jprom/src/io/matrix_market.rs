@@ -22,6 +22,8 @@ use crate::error::{JpError, Result};
 use crate::linalg::SYMMETRY_TOLERANCE;
 use std::path::Path;
 
+mod entries;
+
 fn perr(path: &str, line: usize, reason: impl Into<String>) -> JpError {
     JpError::Parse { path: path.to_string(), line, reason: reason.into() }
 }
@@ -54,8 +56,11 @@ pub fn read_symmetric_matrix_market(path: &Path) -> Result<SparseMat> {
 /// # Errors
 /// As [`read_symmetric_matrix_market`].
 pub fn parse_symmetric_matrix_market(text: &str, name: &str) -> Result<SparseMat> {
-    let a = parse(text, name, true)?;
-    check_symmetric(&a, name)?;
+    let (a, symmetric_file) = parse_with_symmetry(text, name, true)?;
+    // a symmetric file's matrix is symmetric by construction; a general one is checked
+    if !symmetric_file {
+        check_symmetric(&a, name)?;
+    }
     Ok(a)
 }
 
@@ -84,7 +89,15 @@ fn storage_bytes(entries: usize, ncols: usize) -> u128 {
 }
 
 fn parse(text: &str, name: &str, structural: bool) -> Result<SparseMat> {
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    parse_with_symmetry(text, name, structural).map(|(a, _)| a)
+}
+
+/// The matrix, and whether the file was `symmetric` (then the matrix is exactly symmetric by
+/// construction: each stored value is used for both triangles).
+fn parse_with_symmetry(text: &str, name: &str, structural: bool) -> Result<(SparseMat, bool)> {
+    // lines with their ends, numbered from 1; `consumed` counts the bytes of those read
+    let mut consumed = 0usize;
+    let mut lines = text.split_inclusive('\n').enumerate().map(|(i, l)| (i + 1, l)).inspect(|(_, l)| consumed += l.len());
     let (_, header) = lines.next().ok_or_else(|| perr(name, 1, "empty file (expected a %%MatrixMarket header)"))?;
     let h: Vec<String> = header.split_whitespace().map(|s| s.to_ascii_lowercase()).collect();
     if h.first().map(String::as_str) != Some("%%matrixmarket") {
@@ -153,81 +166,57 @@ fn parse(text: &str, name: &str, structural: bool) -> Result<SparseMat> {
             ));
         }
     }
-    // the declared count against the lines there are, then the storage against the budget,
-    // before anything is allocated from the size line
-    let entry_lines = text.lines().skip(size_line).filter(|l| is_data(l)).count();
+    drop(lines);
+    let body = &text[consumed..];
+    let chunks = entries::parse_chunks(body, nrows, ncols, symmetric);
+    // the declared count against the lines there are, then the storage against the budget
+    let entry_lines: usize = chunks.iter().map(|c| c.data_lines).sum();
     if nnz > entry_lines {
         return Err(perr(name, size_line, format!("missing entries: {nnz} declared, the file has {entry_lines} entry lines")));
     }
     let stored = if symmetric { nnz.saturating_mul(2) } else { nnz };
     crate::memory::check(&format!("the {nrows} x {ncols} matrix of {name} ({nnz} entries)"), storage_bytes(stored, ncols))?;
 
-    let mut triplets = Vec::new();
-    triplets
-        .try_reserve_exact(stored)
-        .map_err(|_| JpError::TooLarge { what: format!("the entries of {name}"), bytes: storage_bytes(stored, ncols), budget: crate::memory::MemoryBudget::global().bytes })?;
-    // first entry above the diagonal of a symmetric file: (row, col, value, line)
-    let mut upper: Option<(usize, usize, f64, usize)> = None;
-    let mut count = 0usize;
-    for (ln, l) in lines {
-        last_line = ln;
-        if !is_data(l) {
-            continue;
+    // the first error in the file: a malformed line, or the first entry beyond the declared
+    // count (which wins on its own line, being found before the line is parsed)
+    let (mut first, mut data_before) = (size_line + 1, 0usize);
+    for c in &chunks {
+        let excess = (data_before + c.data_lines > nnz).then(|| entries::nth_data_line(c.text, nnz - data_before)).flatten();
+        match (excess, &c.error) {
+            (Some(x), Some((e, _))) if x <= *e => return Err(perr(name, first + x, format!("wrong counts: more entries than the {nnz} declared"))),
+            (Some(x), None) => return Err(perr(name, first + x, format!("wrong counts: more entries than the {nnz} declared"))),
+            (_, Some((e, reason))) => return Err(perr(name, first + e, reason.clone())),
+            (None, None) => {}
         }
-        if count == nnz {
-            return Err(perr(name, ln, format!("wrong counts: more entries than the {nnz} declared")));
-        }
-        let f: Vec<&str> = l.split_whitespace().collect();
-        if f.len() != 3 {
-            return Err(perr(name, ln, format!("entry must be 'row col value', got {} fields", f.len())));
-        }
-        let idx = |s: &str, what: &str, max: usize| -> Result<usize> {
-            let i: i64 = s.parse().map_err(|_| perr(name, ln, format!("{what} index '{s}' is not an integer")))?;
-            if i < 1 || i as u64 > max as u64 {
-                return Err(perr(name, ln, format!("{what} index {i} out of range 1..={max}")));
-            }
-            Ok(i as usize - 1)
-        };
-        let i = idx(f[0], "row", nrows)?;
-        let j = idx(f[1], "column", ncols)?;
-        let v: f64 = f[2].parse().map_err(|_| perr(name, ln, format!("value '{}' is not a number", f[2])))?;
-        if !v.is_finite() {
-            return Err(perr(name, ln, format!("value '{}' is not finite", f[2])));
-        }
-        count += 1;
-        if symmetric {
-            if i < j {
-                upper.get_or_insert((i, j, v, ln));
-                continue;
-            }
-            if i != j {
-                triplets.push((j, i, v));
-            }
-        }
-        triplets.push((i, j, v));
+        data_before += c.data_lines;
+        first += c.lines;
     }
-    if count < nnz {
-        return Err(perr(name, last_line + 1, format!("missing entries: {nnz} declared, {count} found")));
+    let mut first = size_line + 1;
+    for c in &chunks {
+        if let Some((i, j, v, l)) = c.upper {
+            // the lower-triangle value at (j, i), summed over duplicates, if the file gives one
+            let mirror: Vec<f64> = chunks.iter().flat_map(|c| &c.entries).filter(|t| t.0 == j && t.1 == i).map(|t| t.2).collect();
+            let reason = if mirror.is_empty() {
+                format!("entry ({}, {}) = {v:e} above the diagonal in a symmetric file (store the lower triangle only)", i + 1, j + 1)
+            } else {
+                let w: f64 = mirror.iter().sum();
+                format!(
+                    "entry ({}, {}) = {v:e} above the diagonal in a symmetric file, which also gives ({}, {}) = {w:e}{} (store the lower triangle only)",
+                    i + 1,
+                    j + 1,
+                    j + 1,
+                    i + 1,
+                    if w == v { "" } else { ": the two conflict" }
+                )
+            };
+            return Err(perr(name, first + l, reason));
+        }
+        first += c.lines;
     }
-    if let Some((i, j, v, ln)) = upper {
-        // the lower-triangle value at (j, i), summed over duplicates, if the file gives one
-        let mirror: Vec<f64> = triplets.iter().filter(|t| t.0 == j && t.1 == i).map(|t| t.2).collect();
-        let reason = if mirror.is_empty() {
-            format!("entry ({}, {}) = {v:e} above the diagonal in a symmetric file (store the lower triangle only)", i + 1, j + 1)
-        } else {
-            let w: f64 = mirror.iter().sum();
-            format!(
-                "entry ({}, {}) = {v:e} above the diagonal in a symmetric file, which also gives ({}, {}) = {w:e}{} (store the lower triangle only)",
-                i + 1,
-                j + 1,
-                j + 1,
-                i + 1,
-                if w == v { "" } else { ": the two conflict" }
-            )
-        };
-        return Err(perr(name, ln, reason));
-    }
-    sparse_from_triplets(nrows, ncols, triplets).map_err(|e| perr(name, 0, e.to_string()))
+    let (col_ptr, row_idx, val) = entries::assemble(ncols, &chunks, symmetric);
+    drop(chunks);
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(nrows, ncols, col_ptr, None, row_idx);
+    Ok((faer::sparse::SparseColMat::new(symbolic, val), symmetric))
 }
 
 /// A square matrix must equal its transpose to [`SYMMETRY_TOLERANCE`] times its largest
@@ -335,4 +324,127 @@ pub fn read_structural_matrices(mass: &Path, stiffness: &Path, damping: Option<&
         }
     }
     Ok(StructuralMatrices { mass: m, stiffness: k, damping: c })
+}
+
+/// What the first lines of a Matrix Market file declare (read by
+/// [`read_matrix_market_header`] without reading the entries).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MatrixMarketHeader {
+    pub rows: usize,
+    pub cols: usize,
+    /// Entries declared on the size line (stored ones: a `symmetric` file stores one triangle).
+    pub entries: usize,
+    pub symmetric: bool,
+    /// Size of the file in bytes.
+    pub file_bytes: u64,
+}
+
+/// Reads only the header and the size line of a Matrix Market file, with the same rules as
+/// [`read_matrix_market`] for them (a quick check of a file before reading it all: the entries
+/// are not read, so a malformed entry is found only by the full reader). For a
+/// `structural` matrix (a mass or stiffness), the size line must also declare a square matrix
+/// with at least one entry per row, as [`read_symmetric_matrix_market`] requires.
+///
+/// # Errors
+/// [`JpError::Io`] if the file is missing, not a regular file or unreadable;
+/// [`JpError::Parse`] with the line for a bad header or size line.
+pub fn read_matrix_market_header(path: &Path, structural: bool) -> Result<MatrixMarketHeader> {
+    use std::io::{BufRead, Read};
+    let name = path.display().to_string();
+    let io = |e: std::io::Error| JpError::Io { path: name.clone(), reason: e.to_string() };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        return Err(JpError::Io { path: name.clone(), reason: "is not a regular file".into() });
+    }
+    let mut reader = std::io::BufReader::new(std::fs::File::open(path).map_err(io)?);
+    // header and comments are short: a line longer than this is not a Matrix Market header
+    let mut head = String::new();
+    let mut ln = 0usize;
+    let mut size_line: Option<(usize, String)> = None;
+    loop {
+        let mut line = Vec::new();
+        let got = (&mut reader).take(1 << 16).read_until(b'\n', &mut line).map_err(io)?;
+        if got == 0 {
+            break;
+        }
+        ln += 1;
+        let text = String::from_utf8(line).map_err(|_| perr(&name, ln, "not UTF-8 text"))?;
+        if ln == 1 {
+            head = text;
+            continue;
+        }
+        if is_data(&text) {
+            size_line = Some((ln, text));
+            break;
+        }
+    }
+    // the full reader's rules on the first lines: header, comments, size line
+    let mut text = head;
+    if !text.ends_with('\n') && !text.is_empty() {
+        text.push('\n');
+    }
+    // a bad header first, as the full reader says it
+    if let Err(JpError::Parse { line: 1, reason, .. }) = parse(&format!("{text}0 0 0\n"), &name, false) {
+        return Err(perr(&name, 1, reason));
+    }
+    let (size_ln, size) = size_line.ok_or_else(|| perr(&name, ln + 1, "missing size line (rows cols entries)"))?;
+    let f: Vec<&str> = size.split_whitespace().collect();
+    if f.len() != 3 {
+        return Err(perr(&name, size_ln, format!("size line must have 3 integers (rows cols entries), got {} fields", f.len())));
+    }
+    let mut v = [0usize; 3];
+    for k in 0..3 {
+        v[k] = f[k].parse().map_err(|_| perr(&name, size_ln, format!("size line: '{}' is not a non-negative integer", f[k])))?;
+    }
+    // header checks: the full parser on the header and a size line with no entries
+    text.push_str(&format!("{} {} 0\n", v[0], v[1]));
+    match parse(&text, &name, false) {
+        Ok(_) => {}
+        Err(JpError::Parse { line: 1, reason, .. }) => return Err(perr(&name, 1, reason)),
+        Err(JpError::Parse { reason, .. }) => return Err(perr(&name, size_ln, reason)),
+        Err(e) => return Err(e),
+    }
+    let symmetric = text.lines().next().is_some_and(|h| h.to_ascii_lowercase().split_whitespace().nth(4) == Some("symmetric"));
+    let (rows, cols, entries) = (v[0], v[1], v[2]);
+    if entries as u128 > crate::memory::product(&[rows, cols]) {
+        return Err(perr(&name, size_ln, format!("wrong counts: {entries} entries cannot fit in {rows} x {cols}")));
+    }
+    if structural && rows != cols {
+        return Err(perr(&name, size_ln, format!("a mass or stiffness matrix must be square, got {rows} x {cols}")));
+    }
+    if structural && entries < rows {
+        return Err(perr(&name, size_ln, format!("{rows} x {cols} with {entries} entries: a mass or stiffness matrix needs at least one entry per row (its diagonal), so at least {rows}")));
+    }
+    Ok(MatrixMarketHeader { rows, cols, entries, symmetric, file_bytes: meta.len() })
+}
+
+#[cfg(test)]
+mod header_tests {
+    use super::*;
+
+    #[test]
+    fn the_header_is_read_without_the_entries() {
+        let dir = std::env::temp_dir().join(format!("jprom-mm-header-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.mtx");
+        std::fs::write(&p, "%%MatrixMarket matrix coordinate real symmetric\n% comment\n\n3 3 4\nthis is not an entry\n").unwrap();
+        let h = read_matrix_market_header(&p, true).unwrap();
+        assert_eq!((h.rows, h.cols, h.entries, h.symmetric), (3, 3, 4, true));
+        assert!(read_matrix_market(&p).is_err(), "the full reader reads the entries");
+        for (text, line, says) in [
+            ("%%MatrixMarket matrix array real general\n3 3\n", 1, "format 'array'"),
+            ("%%MatrixMarket matrix coordinate real general\n3 2 6\n", 2, "square"),
+            ("%%MatrixMarket matrix coordinate real general\n% only a comment\n", 3, "missing size line"),
+            ("%%MatrixMarket matrix coordinate real general\n3 x 6\n", 2, "not a non-negative integer"),
+            ("not a header\n3 3 3\n", 1, "%%MatrixMarket"),
+        ] {
+            std::fs::write(&p, text).unwrap();
+            match read_matrix_market_header(&p, true) {
+                Err(JpError::Parse { line: l, reason, .. }) => assert!(l == line && reason.contains(says), "{text:?}: line {l}: {reason}"),
+                other => panic!("{text:?}: {other:?}"),
+            }
+        }
+        assert!(matches!(read_matrix_market_header(&dir.join("none.mtx"), true), Err(JpError::Io { .. })));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
