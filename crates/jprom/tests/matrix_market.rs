@@ -113,3 +113,99 @@ fn dof_map_round_trip_and_errors() {
     let dup = r#"{"format":"jprom-dof-map","version":1,"n_dof":9,"nodes":[{"id":1,"coords":[0,0,0],"dofs":[0,1,2]},{"id":2,"coords":[0,0,0],"dofs":[2,3,4]}]}"#;
     assert!(matches!(DofMap::parse(dup, "m"), Err(JpError::InvalidValue { .. })));
 }
+
+/// A file of many chunks (the reader parses about 2 MB per thread): random entries in random
+/// order with duplicates, comments and blank lines among them, equal bit for bit to the
+/// triplets summed in file order; and errors far into the file name their own line.
+#[test]
+fn large_files_are_read_in_parallel_as_line_by_line() {
+    use jprom::linalg::sparse_from_triplets;
+    let n = 3000;
+    let mut s: u64 = 12345;
+    let mut next = |m: u64| {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 33) % m
+    };
+    for symmetric in [false, true] {
+        let mut lines = Vec::new();
+        let mut triplets = Vec::new();
+        while lines.len() < 200_000 {
+            let (mut i, mut j) = (next(n) as usize, next(n) as usize);
+            if symmetric && i < j {
+                std::mem::swap(&mut i, &mut j);
+            }
+            let v = (next(1 << 40) as f64 - (1u64 << 39) as f64) * 1.234567e-7;
+            match next(50) {
+                0 => lines.push("% a comment".to_string()),
+                1 => lines.push("   ".to_string()),
+                _ => {}
+            }
+            lines.push(match next(3) {
+                0 => format!("{} {} {v:.17e}", i + 1, j + 1),
+                1 => format!("  {}\t{}  {v:e} ", i + 1, j + 1),
+                _ => format!("{} {} {v}", i + 1, j + 1),
+            });
+            if symmetric && i != j {
+                triplets.push((j, i, v));
+            }
+            triplets.push((i, j, v));
+            // a duplicate of an earlier entry now and then
+            if next(20) == 0 {
+                let k = next(lines.len() as u64) as usize;
+                if !lines[k].starts_with('%') && !lines[k].trim().is_empty() {
+                    let l = lines[k].clone();
+                    let f: Vec<&str> = l.split_whitespace().collect();
+                    let (i, j, v): (usize, usize, f64) = (f[0].parse().unwrap(), f[1].parse().unwrap(), f[2].parse().unwrap());
+                    if symmetric && i != j {
+                        triplets.push((j - 1, i - 1, v));
+                    }
+                    triplets.push((i - 1, j - 1, v));
+                    lines.push(l);
+                }
+            }
+        }
+        let entries = lines.iter().filter(|l| !l.starts_with('%') && !l.trim().is_empty()).count();
+        let sym = if symmetric { "symmetric" } else { "general" };
+        let text = format!("%%MatrixMarket matrix coordinate real {sym}\n% big\n{n} {n} {entries}\n{}\n", lines.join("\n"));
+        assert!(text.len() > 2 * (2 << 20), "several chunks: {} bytes", text.len());
+        let a = parse_matrix_market(&text, "big.mtx").unwrap();
+        let b = sparse_from_triplets(n as usize, n as usize, triplets).unwrap();
+        let (ta, tb) = (sparse_triplets(&a), sparse_triplets(&b));
+        assert!(ta.len() == tb.len() && ta.iter().zip(&tb).all(|(x, y)| x.0 == y.0 && x.1 == y.1 && x.2.to_bits() == y.2.to_bits()), "{sym}");
+
+        // errors deep in the file: each at its line (4 header lines before the entries)
+        let bad = |k: usize, l: &str| {
+            let mut v = lines.clone();
+            v[k] = l.to_string();
+            let t = format!("%%MatrixMarket matrix coordinate real {sym}\n% big\n{n} {n} {entries}\n{}\n", v.join("\n"));
+            parse_err_named(&t)
+        };
+        let k = lines.len() - 1000;
+        let (l, r) = bad(k, "1 1 oops");
+        assert_eq!(l, k + 4, "{r}");
+        assert!(r.contains("value 'oops' is not a number"), "{r}");
+        let (l, r) = bad(k / 2, &format!("{} 1 1", n + 1));
+        assert_eq!((l, r.contains("row index")), (k / 2 + 4, true), "{r}");
+        // one entry more than declared: named at the first line past the count, even with a
+        // malformed line after it
+        let mut v = lines.clone();
+        v.push("1 1 1".into());
+        v.push("1 1 oops".into());
+        let t = format!("%%MatrixMarket matrix coordinate real {sym}\n% big\n{n} {n} {entries}\n{}\n", v.join("\n"));
+        let (l, r) = parse_err_named(&t);
+        assert_eq!(l, lines.len() + 4, "{r}");
+        assert!(r.contains("more entries than the"), "{r}");
+        if symmetric {
+            let (l, r) = bad(k, "1 2 1.0");
+            assert_eq!(l, k + 4, "{r}");
+            assert!(r.contains("above the diagonal"), "{r}");
+        }
+    }
+}
+
+fn parse_err_named(text: &str) -> (usize, String) {
+    match parse_matrix_market(text, "big.mtx") {
+        Err(JpError::Parse { line, reason, .. }) => (line, reason),
+        other => panic!("expected a parse error, got {:?}", other.map(|a| a.compute_nnz())),
+    }
+}
