@@ -125,14 +125,9 @@ pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st
 /// [`stuck_limit_scale`], or 0 and the first contact at its limit in the static state.
 fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<(f64, String)> {
     let n = coords.n_dof;
-    let mut kst = coords.stiffness.clone();
-    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
-        for (i, k) in law.stuck_stiffness().into_iter().enumerate() {
-            kst[(off + i, off + i)] += k;
-        }
-    }
+    let kst = coords.stuck_stiffness();
     let w2 = omega_st * omega_st;
-    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], omega_st * coords.damping[(i, j)]));
+    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], coords.dissipation(omega_st, i, j)));
     let (fc, fs) = &coords.harmonic_force[0];
     let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
     let q = d.partial_piv_lu().solve(&rhs);

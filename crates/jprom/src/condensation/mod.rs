@@ -20,6 +20,7 @@ use crate::error::{JpError, Result};
 use crate::hbm::options::check_omega;
 use crate::hbm::{HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
 use crate::linalg::lu_checked;
+use crate::model::contact_coordinates::dissipation;
 use crate::model::{ContactCoordinates, Model};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -39,7 +40,7 @@ fn block(c: &ContactCoordinates, omega: f64, h: usize, r0: usize, nr: usize, c0:
     let hw = h as f64 * omega;
     Mat::from_fn(nr, nc, |i, j| {
         let (a, b) = (r0 + i, c0 + j);
-        c64::new(c.stiffness[(a, b)] - hw * hw * c.mass[(a, b)], hw * c.damping[(a, b)])
+        c64::new(c.stiffness[(a, b)] - hw * hw * c.mass[(a, b)], c.dissipation(hw, a, b))
     })
 }
 
@@ -274,6 +275,8 @@ pub struct ProjectedCondensation {
     f_l: Vec<(Vec<f64>, Vec<f64>)>,
     /// `A_LL` for `A = K, M, C`.
     ll: [Mat<f64>; 3],
+    /// Structural loss factor `eta` (acts on the projected `K`).
+    loss_factor: f64,
 }
 
 impl CondensedSystem {
@@ -311,7 +314,7 @@ impl CondensedSystem {
             f_n.push((proj(fc), proj(fs)));
             f_l.push((fc[nw..].to_vec(), fs[nw..].to_vec()));
         }
-        Ok(ProjectedCondensation { harmonics: hh, d0, f0, nn, ln, f_n, f_l, ll })
+        Ok(ProjectedCondensation { harmonics: hh, d0, f0, nn, ln, f_n, f_l, ll, loss_factor: c.loss_factor })
     }
 }
 
@@ -332,9 +335,10 @@ impl ProjectedCondensation {
             fh_sin: Vec::new(),
         };
         let nl = self.ll[0].nrows();
+        let eta = self.loss_factor;
         for h in 1..=self.harmonics {
             let hw = h as f64 * omega;
-            let d = |a: &[Mat<f64>; 3], i: usize, j: usize| c64::new(a[0][(i, j)] - hw * hw * a[1][(i, j)], hw * a[2][(i, j)]);
+            let d = |a: &[Mat<f64>; 3], i: usize, j: usize| c64::new(a[0][(i, j)] - hw * hw * a[1][(i, j)], dissipation(hw, a[2][(i, j)], a[0][(i, j)], eta));
             let nn = &self.nn[h - 1];
             let nh = nn[0].nrows();
             let mut re = Mat::from_fn(nh, nh, |i, j| d(nn, i, j).re);

@@ -593,13 +593,18 @@ impl CbModel {
             harmonics: vec![HarmonicForce { cos: self.harmonic_force.clone(), sin: vec![0.0; n] }],
             dynamic_scale: 1.0,
         };
-        Model::new(
+        let mut model = Model::new(
             self.cb.mass.clone(),
             self.cb.stiffness.clone(),
             damping,
             excitation,
             self.contacts.clone(),
             self.output_dofs.clone(),
-        )
+        )?;
+        if let Some(c) = &self.cb.damping {
+            model.added_damping = Some(c.clone());
+            model.validate()?;
+        }
+        Ok(model)
     }
 }

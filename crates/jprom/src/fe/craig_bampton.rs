@@ -56,6 +56,9 @@ pub struct CraigBampton {
     pub stiffness: Mat<f64>,
     /// Reduced mass `T^T M T` (dense, symmetric, `n_b + n_modes`).
     pub mass: Mat<f64>,
+    /// Reduced viscous damping `T^T C T`, when a `C` was given
+    /// ([`CraigBampton::reduce_with_damping`]).
+    pub damping: Option<Mat<f64>>,
     /// Fixed-interface eigenvalues `lambda = omega^2`, ascending.
     pub modal_eigenvalues: Vec<f64>,
     /// Fixed-interface modes `Phi` (`n_i x n_modes`, mass-normalised).
@@ -76,12 +79,26 @@ impl CraigBampton {
     /// definite (the structure must be held by the boundary or by its own supports),
     /// [`JpError::Eigen`] if the modes do not converge.
     pub fn reduce(k: &SparseMat, m: &SparseMat, boundary: &[usize], options: CbOptions) -> Result<Self> {
+        Self::reduce_with_damping(k, m, None, boundary, options)
+    }
+
+    /// As [`CraigBampton::reduce`], also projecting a viscous damping matrix `C` (sparse,
+    /// symmetric, full storage) to `T^T C T` ([`CraigBampton::damping`]) the way `M` is.
+    ///
+    /// # Errors
+    /// As [`CraigBampton::reduce`]; [`JpError::BadSize`] for a `C` of another size.
+    pub fn reduce_with_damping(k: &SparseMat, m: &SparseMat, c: Option<&SparseMat>, boundary: &[usize], options: CbOptions) -> Result<Self> {
         let n = k.nrows();
         if k.ncols() != n {
             return Err(JpError::bad_size("stiffness (columns)", n, k.ncols()));
         }
         if m.nrows() != n || m.ncols() != n {
             return Err(JpError::bad_size("mass (rows)", n, m.nrows()));
+        }
+        if let Some(c) = c {
+            if c.nrows() != n || c.ncols() != n {
+                return Err(JpError::bad_size("damping (rows and columns)", n, if c.nrows() != n { c.nrows() } else { c.ncols() }));
+            }
         }
         let mut b_map = vec![usize::MAX; n];
         for (r, &d) in boundary.iter().enumerate() {
@@ -105,30 +122,34 @@ impl CraigBampton {
         let n_modes = options.n_modes.min(ni);
 
         let k_ii = sparse_submatrix(k, &i_map, ni, &interior);
-        let m_ii = sparse_submatrix(m, &i_map, ni, &interior);
         let k_ib = sparse_submatrix(k, &i_map, ni, boundary);
-        let m_ib = sparse_submatrix(m, &i_map, ni, boundary);
         let k_bb = sparse_dense_block(k, &b_map, nb, boundary);
-        let m_bb = sparse_dense_block(m, &b_map, nb, boundary);
+        let nr = nb + n_modes;
+        // M and C are projected alike (`T^T A T`, A = M, C)
+        let mut projected: Vec<MassLike> = std::iter::once(m)
+            .chain(c)
+            .map(|a| {
+                let mut red = Mat::<f64>::zeros(nr, nr);
+                red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&sparse_dense_block(a, &b_map, nb, boundary));
+                MassLike { a_ii: sparse_submatrix(a, &i_map, ni, &interior), a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
+            })
+            .collect();
 
         let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
-        let modes = lowest_modes(&chol, &m_ii, n_modes)?;
+        let modes = lowest_modes(&chol, &projected[0].a_ii, n_modes)?;
         let phi = modes.vectors;
 
-        let nr = nb + n_modes;
         let par = Par::rayon(0);
         let mut k_red = Mat::<f64>::zeros(nr, nr);
-        let mut m_red = Mat::<f64>::zeros(nr, nr);
         k_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&k_bb);
-        m_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&m_bb);
         for (r, &lam) in modes.eigenvalues.iter().enumerate() {
             k_red[(nb + r, nb + r)] = lam;
         }
         // Boundary columns in blocks B, never more than `n_i x BLOCK` dense at a time besides
         // the kept `Psi`:
-        //   Psi_B = -K_ii^-1 K_iB,   X_B = M_iB + M_ii Psi_B,
-        //   K_red[b, B] = K_bB + K_bi Psi_B,   M_red[m, B] = Phi^T X_B,
-        //   M_red[b, B] = M_bB + M_bi Psi_B + Psi^T X_B,  Psi^T X_B = -K_bi (K_ii^-1 X_B),
+        //   Psi_B = -K_ii^-1 K_iB,   X_B = A_iB + A_ii Psi_B   (A = M, C),
+        //   K_red[b, B] = K_bB + K_bi Psi_B,   A_red[m, B] = Phi^T X_B,
+        //   A_red[b, B] = A_bB + A_bi Psi_B + Psi^T X_B,  Psi^T X_B = -K_bi (K_ii^-1 X_B),
         // the last by a second solve, so the whole of `Psi` is never needed.
         // With `keep_recovery` the whole `Psi` is solved for first (one multi-right-hand-side
         // solve) and `Psi^T X_B` is a product, as before the blocked path existed: the blade-pair
@@ -155,8 +176,6 @@ impl CraigBampton {
                     psi
                 }
             };
-            let mut x = sparse_dense_block(&m_ib, &all_i, ni, &cols);
-            faer::sparse::linalg::matmul::sparse_dense_matmul(x.as_mut(), Accum::Add, m_ii.as_ref(), psi.as_ref(), 1.0, par);
             faer::sparse::linalg::matmul::sparse_dense_matmul(
                 k_red.as_mut().submatrix_mut(0, start, nb, w),
                 Accum::Add,
@@ -165,79 +184,59 @@ impl CraigBampton {
                 1.0,
                 par,
             );
-            faer::sparse::linalg::matmul::sparse_dense_matmul(
-                m_red.as_mut().submatrix_mut(0, start, nb, w),
-                Accum::Add,
-                m_ib.as_ref().transpose(),
-                psi.as_ref(),
-                1.0,
-                par,
-            );
-            matmul(
-                m_red.as_mut().submatrix_mut(nb, start, n_modes, w),
-                Accum::Replace,
-                phi.as_ref().transpose(),
-                x.as_ref(),
-                1.0,
-                par,
-            );
-            drop(psi);
-            match &psi_all {
-                Some(all) => matmul(m_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
-                None => {
-                    chol.solve_in_place(x.as_mut());
-                    faer::sparse::linalg::matmul::sparse_dense_matmul(
-                        m_red.as_mut().submatrix_mut(0, start, nb, w),
-                        Accum::Add,
-                        k_ib.as_ref().transpose(),
-                        x.as_ref(),
-                        -1.0,
-                        par,
-                    );
+            for a in projected.iter_mut() {
+                let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
+                faer::sparse::linalg::matmul::sparse_dense_matmul(x.as_mut(), Accum::Add, a.a_ii.as_ref(), psi.as_ref(), 1.0, par);
+                faer::sparse::linalg::matmul::sparse_dense_matmul(
+                    a.red.as_mut().submatrix_mut(0, start, nb, w),
+                    Accum::Add,
+                    a.a_ib.as_ref().transpose(),
+                    psi.as_ref(),
+                    1.0,
+                    par,
+                );
+                matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
+                match &psi_all {
+                    Some(all) => matmul(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
+                    None => {
+                        chol.solve_in_place(x.as_mut());
+                        faer::sparse::linalg::matmul::sparse_dense_matmul(
+                            a.red.as_mut().submatrix_mut(0, start, nb, w),
+                            Accum::Add,
+                            k_ib.as_ref().transpose(),
+                            x.as_ref(),
+                            -1.0,
+                            par,
+                        );
+                    }
                 }
             }
+            drop(psi);
             start += w;
         }
         drop(chol);
-        {
-            let mut mphi = Mat::<f64>::zeros(ni, n_modes);
-            faer::sparse::linalg::matmul::sparse_dense_matmul(mphi.as_mut(), Accum::Replace, m_ii.as_ref(), phi.as_ref(), 1.0, par);
-            matmul(
-                m_red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes),
-                Accum::Replace,
-                phi.as_ref().transpose(),
-                mphi.as_ref(),
-                1.0,
-                par,
-            );
-        }
-        // Mode-boundary blocks: copy the lower block up, then symmetrise everything.
-        for j in 0..nr {
-            for i in 0..j {
-                let (a, b) = (k_red[(i, j)], k_red[(j, i)]);
-                let s = 0.5 * (a + b);
-                k_red[(i, j)] = s;
-                k_red[(j, i)] = s;
+        for a in projected.iter_mut() {
+            let mut aphi = Mat::<f64>::zeros(ni, n_modes);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(aphi.as_mut(), Accum::Replace, a.a_ii.as_ref(), phi.as_ref(), 1.0, par);
+            matmul(a.red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes), Accum::Replace, phi.as_ref().transpose(), aphi.as_ref(), 1.0, par);
+            // mode-boundary blocks: copy the lower block up, then symmetrise
+            for j in nb..nr {
+                for i in 0..nb {
+                    a.red[(i, j)] = a.red[(j, i)];
+                }
             }
+            symmetrise(&mut a.red);
         }
-        for j in nb..nr {
-            for i in 0..nb {
-                m_red[(i, j)] = m_red[(j, i)];
-            }
-        }
-        for j in 0..nr {
-            for i in 0..j {
-                let s = 0.5 * (m_red[(i, j)] + m_red[(j, i)]);
-                m_red[(i, j)] = s;
-                m_red[(j, i)] = s;
-            }
-        }
+        symmetrise(&mut k_red);
+        let damping = if projected.len() > 1 { projected.pop().map(|a| a.red) } else { None };
+        let m_red = projected.pop().map(|a| a.red).unwrap_or_else(|| Mat::zeros(nr, nr));
         Ok(CraigBampton {
             n_full: n,
             boundary_dofs: boundary.to_vec(),
             interior_dofs: interior,
             stiffness: k_red,
             mass: m_red,
+            damping,
             modal_eigenvalues: modes.eigenvalues,
             fixed_interface_modes: phi,
             constraint_modes: psi_all,
@@ -306,6 +305,24 @@ impl CraigBampton {
             x[d] = xi[(r, 0)];
         }
         Ok(x)
+    }
+}
+
+/// A matrix projected the way `M` is: its interior and interior-boundary blocks, and `T^T A T`.
+struct MassLike {
+    a_ii: SparseMat,
+    a_ib: SparseMat,
+    red: Mat<f64>,
+}
+
+/// `A <- (A + A^T) / 2`.
+fn symmetrise(a: &mut Mat<f64>) {
+    for j in 0..a.ncols() {
+        for i in 0..j {
+            let s = 0.5 * (a[(i, j)] + a[(j, i)]);
+            a[(i, j)] = s;
+            a[(j, i)] = s;
+        }
     }
 }
 

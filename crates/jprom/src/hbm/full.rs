@@ -44,7 +44,7 @@ pub(crate) fn dynamic_stiffness_parts(c: &ContactCoordinates, omega: f64, h: usi
     let hw = h as f64 * omega;
     let n = c.n_dof;
     let re = Mat::from_fn(n, n, |i, j| c.stiffness[(i, j)] - hw * hw * c.mass[(i, j)]);
-    let im = Mat::from_fn(n, n, |i, j| hw * c.damping[(i, j)]);
+    let im = Mat::from_fn(n, n, |i, j| c.dissipation(hw, i, j));
     (re, im)
 }
 

@@ -131,7 +131,7 @@ pub struct PredictionReport {
 /// [`JpError::Eigen`] if the shift-invert iteration fails (as for a mass matrix that is not
 /// positive definite, or a band centre exactly on a stuck eigenvalue).
 pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64, Vec<f64>)> {
-    let k = stuck_stiffness(coords);
+    let k = coords.stuck_stiffness();
     let centre = 0.5 * (band.0 + band.1);
     // Shift-invert at the band centre: one LU of the model size, no full eigen solve.
     let (lambda, mut phi) = crate::linalg::eigen::generalized_eigenpair_nearest(&k, &coords.mass, centre * centre, "stuck modes")?;
@@ -140,17 +140,6 @@ pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64,
     let nrm = norm2(&phi).copysign(big);
     phi.iter_mut().for_each(|x| *x /= nrm);
     Ok((lambda.max(0.0).sqrt(), phi))
-}
-
-/// `K` with the stuck contact stiffness added on the contact coordinates.
-fn stuck_stiffness(coords: &ContactCoordinates) -> Mat<f64> {
-    let mut k = coords.stiffness.clone();
-    for (law, &off) in coords.laws.iter().zip(&coords.offsets) {
-        for (i, ks) in law.stuck_stiffness().into_iter().enumerate() {
-            k[(off + i, off + i)] += ks;
-        }
-    }
-    k
 }
 
 /// Harmonic-major contact displacement with static part `q0` and first harmonic `(c, s)`.
@@ -181,7 +170,7 @@ pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Ve
     let nw = coords.n_w;
     let hh = plan.harmonics();
     let f0 = Mat::from_fn(n, 1, |i, _| coords.static_force[i]);
-    let x = lu_solve("K + stuck contact stiffness", &stuck_stiffness(coords), &f0)?;
+    let x = lu_solve("K + stuck contact stiffness", &coords.stuck_stiffness(), &f0)?;
     let mut q: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
     let zeros = vec![0.0; nw];
     let residual = |q: &[f64], jac: bool| -> (Vec<f64>, ContactForces) {
@@ -236,7 +225,7 @@ pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Ve
 /// Linear estimate `|(D_1 + K̂_ST)^-1 f_E^1|` at `omega` (cos and sin parts together).
 fn linear_response_norm(coords: &ContactCoordinates, omega: f64) -> Result<f64> {
     let n = coords.n_dof;
-    let k = stuck_stiffness(coords);
+    let k = coords.stuck_stiffness();
     let (fc, fs) = coords
         .harmonic_force
         .first()
@@ -245,7 +234,7 @@ fn linear_response_norm(coords: &ContactCoordinates, omega: f64) -> Result<f64> 
     for j in 0..n {
         for i in 0..n {
             let re = k[(i, j)] - omega * omega * coords.mass[(i, j)];
-            let im = omega * coords.damping[(i, j)];
+            let im = coords.dissipation(omega, i, j);
             a[(i, j)] = re;
             a[(i, n + j)] = im;
             a[(n + i, j)] = -im;

@@ -113,9 +113,7 @@ pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, wh
         let mut at = a.transpose().to_owned();
         l.as_ref().solve_lower_triangular_in_place(at.as_mut());
         let a = Mat::from_fn(p, p, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
-        let evd = a.self_adjoint_eigen(faer::Side::Lower).map_err(|e| JpError::Eigen { what: format!("{what}: Ritz values: {e:?}") })?;
-        let s = evd.S().column_vector();
-        let mut y = evd.U().to_owned();
+        let (s, mut y) = symmetric_eigen(&a, &format!("{what}: Ritz values"))?;
         l.transpose().solve_upper_triangular_in_place(y.as_mut());
         let j = (0..p).min_by(|&a, &b| (s[a] - target).abs().total_cmp(&(s[b] - target).abs())).unwrap_or(0);
         let lambda = s[j];
@@ -140,21 +138,60 @@ pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, wh
 /// # Errors
 /// [`JpError::SingularMatrix`] if `M` is not positive definite, [`JpError::Eigen`] otherwise.
 pub fn dense_generalized_eigenvalues(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result<Vec<f64>> {
-    let n = k.nrows();
-    let llt = m.llt(faer::Side::Lower).map_err(|_| JpError::singular("mass (dense Cholesky)"))?;
-    let l = llt.L();
-    let mut a = k.clone();
-    // a = L^-1 K L^-T
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::rayon(0));
-    let mut at = a.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, at.as_mut(), faer::Par::rayon(0));
-    let a = faer::Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
+    let (a, _) = cholesky_reduced(k, m)?;
     let s = a
         .self_adjoint_eigenvalues(faer::Side::Lower)
         .map_err(|e| JpError::Eigen { what: format!("dense symmetric eigenvalues: {e:?}") })?;
     let mut s: Vec<f64> = s.into_iter().collect();
     s.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     Ok(s)
+}
+
+/// All eigenpairs of the dense symmetric-definite problem `K x = lambda M x`: eigenvalues
+/// ascending and mass-normalised vectors (`Phi^T M Phi = I`, columns in the same order).
+///
+/// # Errors
+/// As [`dense_generalized_eigenvalues`].
+pub fn dense_generalized_modes(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result<(Vec<f64>, faer::Mat<f64>)> {
+    let (a, llt) = cholesky_reduced(k, m)?;
+    let (lambda, mut phi) = symmetric_eigen(&a, "dense symmetric eigenpairs")?;
+    // x = L^-T y
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(llt.L().transpose(), phi.as_mut(), faer::Par::rayon(0));
+    Ok((lambda, phi))
+}
+
+/// All eigenpairs of a dense symmetric matrix: eigenvalues ascending, orthonormal vectors in the
+/// same order. The matrix is scaled to unit largest entry first: faer 0.24's
+/// `self_adjoint_eigen` returned eigenpairs with a relative residual of 1e-3 on a symmetric
+/// `720 x 720` matrix of norm 3e14 (the reduced pencil of tests/data/calculix/block), and
+/// exact ones on the same matrix scaled (tests/damping_frf.rs found it).
+///
+/// # Errors
+/// [`JpError::Eigen`] if the decomposition fails.
+pub fn symmetric_eigen(a: &faer::Mat<f64>, what: &str) -> Result<(Vec<f64>, faer::Mat<f64>)> {
+    let n = a.nrows();
+    let scale = a.norm_max();
+    let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+    let scaled = a * faer::Scale(1.0 / scale);
+    let evd = scaled.self_adjoint_eigen(faer::Side::Lower).map_err(|e| JpError::Eigen { what: format!("{what}: {e:?}") })?;
+    let s = evd.S().column_vector();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| s[i].total_cmp(&s[j]));
+    let u = evd.U();
+    Ok((order.iter().map(|&i| s[i] * scale).collect(), faer::Mat::from_fn(n, n, |i, c| u[(i, order[c])])))
+}
+
+/// `L^-1 K L^-T` (symmetrised) and the Cholesky factor of `M = L L^T`.
+fn cholesky_reduced(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result<(faer::Mat<f64>, faer::linalg::solvers::Llt<f64>)> {
+    let n = k.nrows();
+    let llt = m.llt(faer::Side::Lower).map_err(|_| JpError::singular("mass (dense Cholesky)"))?;
+    let l = llt.L();
+    let mut a = k.clone();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::rayon(0));
+    let mut at = a.transpose().to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, at.as_mut(), faer::Par::rayon(0));
+    let a = faer::Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
+    Ok((a, llt))
 }
 
 #[cfg(test)]
@@ -184,5 +221,19 @@ mod tests {
             assert!(r < 1e-9, "n = {n}: residual {r}");
             assert!((xv.norm_l2() - 1.0).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn dense_modes_are_mass_normalised_eigenpairs_of_the_known_spectrum() {
+        let (k, m, lams) = pencil(30);
+        let (lambda, phi) = dense_generalized_modes(&k, &m).unwrap();
+        for (got, want) in lambda.iter().zip(&lams) {
+            assert!((got - want).abs() <= 1e-9 * want, "{got} vs {want}");
+        }
+        let r = (&k * &phi - &m * &phi * Mat::from_fn(30, 30, |i, j| if i == j { lambda[i] } else { 0.0 })).norm_l2() / (&k * &phi).norm_l2();
+        assert!(r < 1e-10, "residual {r}");
+        let g = phi.transpose() * &m * &phi;
+        let e = (&g - Mat::<f64>::identity(30, 30)).norm_l2();
+        assert!(e < 1e-10, "Phi^T M Phi - I: {e}");
     }
 }

@@ -241,9 +241,7 @@ pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> 
         let id = a.clone();
         op0.apply_to(a.as_mut(), id.as_ref());
         let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-        let evd = a.self_adjoint_eigen(Side::Lower).map_err(|e| JpError::Eigen { what: format!("dense fallback: {e:?}") })?;
-        let s = evd.S().column_vector();
-        let u = evd.U();
+        let (s, u) = crate::linalg::eigen::symmetric_eigen(&a, "dense fallback")?;
         // ascending mu -> take the largest n_modes, largest first
         let mus: Vec<f64> = (0..n_modes).map(|k| s[n - 1 - k]).collect();
         let ys = Mat::from_fn(n, n_modes, |i, k| u[(i, n - 1 - k)]);

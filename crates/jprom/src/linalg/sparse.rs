@@ -129,3 +129,20 @@ pub fn sparse_matvec(a: &SparseMat, x: &[f64]) -> Vec<f64> {
 pub fn sparse_to_dense(a: &SparseMat) -> Mat<f64> {
     a.as_ref().to_dense()
 }
+
+/// The first entry (by column) where square `a` differs from its transpose by more than
+/// `rel_tol` times its largest entry: `(i, j, a_ij, a_ji)`, or `None` if `a` is symmetric.
+pub fn first_asymmetry(a: &SparseMat, rel_tol: f64) -> Option<(usize, usize, f64, f64)> {
+    let tr = sparse_triplets(a);
+    let max = tr.iter().fold(0.0f64, |m, t| m.max(t.2.abs()));
+    let tol = rel_tol * max;
+    let at = sparse_from_triplets(a.ncols(), a.nrows(), tr.iter().map(|&(i, j, v)| (j, i, v)).collect()).ok()?;
+    let at = at.as_ref();
+    let (cp, ri, v) = (at.symbolic().col_ptr(), at.symbolic().row_idx(), at.val());
+    // entries present only in the transpose are covered: (i, j) missing means a(j, i) != 0 is
+    // met as its own triplet, against a(i, j) = 0
+    tr.into_iter().find_map(|(i, j, a_ij)| {
+        let a_ji = (cp[j]..cp[j + 1]).find(|&k| ri[k] == i).map_or(0.0, |k| v[k]);
+        ((a_ij - a_ji).abs() > tol).then_some((i, j, a_ij, a_ji))
+    })
+}

@@ -32,6 +32,9 @@ pub struct ContactCoordinates {
     pub mass: Mat<f64>,
     pub stiffness: Mat<f64>,
     pub damping: Mat<f64>,
+    /// Structural loss factor `eta` (the harmonics see `(1 + i eta) K`; `T^T (eta K) T = eta`
+    /// times [`Self::stiffness`]).
+    pub loss_factor: f64,
     /// `T^T f_E^0`, and `T^T` of the cos and sin parts of `f_E^h`, `h = 1..=H` (scaled).
     pub static_force: Vec<f64>,
     pub harmonic_force: Vec<(Vec<f64>, Vec<f64>)>,
@@ -39,7 +42,38 @@ pub struct ContactCoordinates {
     pub output_dofs: Vec<usize>,
 }
 
+/// Imaginary part of the dynamic stiffness `D_h = K - (h w)^2 M + i (h w C + eta K)` at
+/// harmonic angular frequency `hw = h w`, from entries `c` of `C` and `k` of `K` (in any basis
+/// both are projected on): `hw c + eta k` for a harmonic, 0 for the static term (`hw = 0`),
+/// which neither viscous nor structural damping acts on (docs/formulation.md §1).
+#[inline]
+pub fn dissipation(hw: f64, c: f64, k: f64, loss_factor: f64) -> f64 {
+    if hw == 0.0 {
+        0.0
+    } else {
+        hw * c + loss_factor * k
+    }
+}
+
 impl ContactCoordinates {
+    /// `K` with every contact's stuck springs (`kt1, kt2, kn` in its frame) added on its
+    /// contact coordinates: the stiffness of the stuck linear limit (docs/formulation.md §8).
+    pub fn stuck_stiffness(&self) -> Mat<f64> {
+        let mut k = self.stiffness.clone();
+        for (law, &off) in self.laws.iter().zip(&self.offsets) {
+            for (i, ks) in law.stuck_stiffness().into_iter().enumerate() {
+                k[(off + i, off + i)] += ks;
+            }
+        }
+        k
+    }
+
+    /// [`dissipation`] of entry `(i, j)` of the `z`-coordinate matrices.
+    #[inline]
+    pub fn dissipation(&self, hw: f64, i: usize, j: usize) -> f64 {
+        dissipation(hw, self.damping[(i, j)], self.stiffness[(i, j)], self.loss_factor)
+    }
+
     /// Builds the transformation for `model` and transforms its matrices, with forces for
     /// harmonics `1..=harmonics`. Cost `O(n^2)` per matrix.
     pub fn new(model: &Model, harmonics: usize) -> Result<Self> {
@@ -133,6 +167,7 @@ impl ContactCoordinates {
             mass,
             stiffness,
             damping,
+            loss_factor: model.loss_factor,
             static_force,
             harmonic_force,
             output_dofs: model.output_dofs.clone(),

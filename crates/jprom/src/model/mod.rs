@@ -1,7 +1,9 @@
-//! The structural model (docs/formulation.md §1): free `M`, `K`, proportional damping, excitation per
-//! harmonic, contact elements and output DoFs.
+//! The structural model (docs/formulation.md §1): free `M`, `K`, damping (Rayleigh, an added
+//! viscous matrix, modal ratios, a structural loss factor), excitation per harmonic, contact
+//! elements and output DoFs.
 
 pub mod contact_coordinates;
+pub mod modes;
 
 use crate::contact::Contact;
 use crate::io::documents::Document;
@@ -113,8 +115,16 @@ pub struct Model {
     /// Stiffness matrix `K` of the free structure (symmetric).
     #[serde(with = "serde_mat")]
     pub stiffness: Mat<f64>,
-    /// Proportional damping.
+    /// Proportional (Rayleigh) damping `alpha M + beta K`.
     pub damping: Damping,
+    /// Viscous damping added to the Rayleigh part: an FE code's `C` (reduced with the model) or
+    /// modal damping ([`Model::set_modal_damping`]). `C = alpha M + beta K + added_damping`.
+    #[serde(default, with = "serde_opt_mat", skip_serializing_if = "Option::is_none")]
+    pub added_damping: Option<Mat<f64>>,
+    /// Structural (hysteretic) loss factor `eta`: the harmonics `h >= 1` see the complex
+    /// stiffness `(1 + i eta) K`, independent of frequency (docs/formulation.md §1).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub loss_factor: f64,
     /// Excitation `f_E`.
     pub excitation: Excitation,
     /// Contact elements.
@@ -124,6 +134,28 @@ pub struct Model {
 }
 
 pub use crate::linalg::SYMMETRY_TOLERANCE;
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+/// Serde adapter for `Option<Mat<f64>>` (absent = `None`).
+mod serde_opt_mat {
+    use super::serde_mat;
+    use faer::Mat;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    #[derive(Serialize, Deserialize)]
+    struct Wrap(#[serde(with = "serde_mat")] Mat<f64>);
+
+    pub fn serialize<S: Serializer>(m: &Option<Mat<f64>>, s: S) -> std::result::Result<S::Ok, S::Error> {
+        m.as_ref().map(|m| Wrap(m.clone())).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<Mat<f64>>, D::Error> {
+        Ok(Option::<Wrap>::deserialize(d)?.map(|w| w.0))
+    }
+}
 
 impl Model {
     /// Builds and validates a model. See [`Model::validate`] for the checks.
@@ -135,7 +167,7 @@ impl Model {
         contacts: Vec<Contact>,
         output_dofs: Vec<usize>,
     ) -> Result<Self> {
-        let m = Model { mass, stiffness, damping, excitation, contacts, output_dofs };
+        let m = Model { mass, stiffness, damping, added_damping: None, loss_factor: 0.0, excitation, contacts, output_dofs };
         m.validate()?;
         Ok(m)
     }
@@ -170,6 +202,15 @@ impl Model {
         check_finite("damping", &[d.mass_coeff, d.stiffness_coeff])?;
         if d.mass_coeff < 0.0 || d.stiffness_coeff < 0.0 {
             return Err(JpError::invalid("damping", "coefficients must be >= 0"));
+        }
+        if let Some(c) = &self.added_damping {
+            if c.nrows() != n || c.ncols() != n {
+                return Err(JpError::bad_size("added damping matrix (rows x cols)", n * n, c.nrows() * c.ncols()));
+            }
+            check_symmetric("added damping matrix", c, SYMMETRY_TOLERANCE)?;
+        }
+        if !(self.loss_factor.is_finite() && self.loss_factor >= 0.0) {
+            return Err(JpError::invalid("loss factor", format!("must be finite and >= 0, got {}", self.loss_factor)));
         }
         let e = &self.excitation;
         if e.static_force.len() != n {
@@ -233,10 +274,47 @@ impl Model {
         Ok(())
     }
 
-    /// Damping matrix `C = alpha M + beta K`.
+    /// Viscous damping matrix `C = alpha M + beta K + added_damping`.
     pub fn damping_matrix(&self) -> Mat<f64> {
         let (a, b) = (self.damping.mass_coeff, self.damping.stiffness_coeff);
-        Mat::from_fn(self.n_dof(), self.n_dof(), |i, j| a * self.mass[(i, j)] + b * self.stiffness[(i, j)])
+        let c = Mat::from_fn(self.n_dof(), self.n_dof(), |i, j| a * self.mass[(i, j)] + b * self.stiffness[(i, j)]);
+        match &self.added_damping {
+            Some(extra) => c + extra,
+            None => c,
+        }
+    }
+
+    /// Sets the added viscous damping to modal damping on the model's own modes (free `K`, `M`,
+    /// no contact springs): `C_modal = M Phi diag(2 zeta_r omega_r) Phi^T M` with mass-normalised
+    /// `Phi`, so that mode `r` alone has damping ratio `zeta_r`. `ratios[r]` is the ratio of the
+    /// `r`-th mode counted from the lowest (rigid-body modes included; they get no damping since
+    /// `omega_r = 0`), `others` the ratio of every mode after the list. Replaces any added matrix;
+    /// keep `alpha`, `beta` at 0 for pure modal damping.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] for a ratio that is not finite and `>= 0`; the eigensolver's
+    /// errors (a mass matrix that is not positive definite).
+    pub fn set_modal_damping(&mut self, ratios: &[f64], others: f64) -> Result<()> {
+        for (r, &z) in ratios.iter().enumerate() {
+            if !(z.is_finite() && z >= 0.0) {
+                return Err(JpError::invalid(format!("modal damping ratio {r}"), format!("must be finite and >= 0, got {z}")));
+            }
+        }
+        if !(others.is_finite() && others >= 0.0) {
+            return Err(JpError::invalid("modal damping ratio of the other modes", format!("must be finite and >= 0, got {others}")));
+        }
+        let (lambda, phi) = crate::linalg::eigen::dense_generalized_modes(&self.stiffness, &self.mass)?;
+        let n = self.n_dof();
+        // M Phi diag(2 zeta omega) (M Phi)^T
+        let m_phi = &self.mass * &phi;
+        let scaled = Mat::from_fn(n, n, |i, r| {
+            let omega = lambda[r].max(0.0).sqrt();
+            let zeta = ratios.get(r).copied().unwrap_or(others);
+            m_phi[(i, r)] * 2.0 * zeta * omega
+        });
+        let c = &scaled * m_phi.transpose();
+        self.added_damping = Some(Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)])));
+        Ok(())
     }
 
     /// Saves as JSON (serde; the format is versioned by [`crate::io::FORMAT_VERSION`]).

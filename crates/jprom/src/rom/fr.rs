@@ -16,6 +16,7 @@ use crate::contact::{ContactLaw, Contacts};
 use crate::error::{check_finite, JpError, Result};
 use crate::hbm::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::jp::JpBasis;
+use crate::model::contact_coordinates::dissipation;
 use crate::model::ContactCoordinates;
 use faer::Mat;
 
@@ -52,6 +53,8 @@ pub struct FrRom {
     basis: JpBasis,
     /// Full `K`, `M`, `C` in contact coordinates, for the linear-DoF transfer of (40).
     full: (Mat<f64>, Mat<f64>, Mat<f64>),
+    /// Structural loss factor `eta` (acts on `K`).
+    loss_factor: f64,
 }
 
 impl FrRom {
@@ -133,6 +136,7 @@ impl FrRom {
             parts,
             basis: basis.clone(),
             full: (coords.stiffness.clone(), coords.mass.clone(), coords.damping.clone()),
+            loss_factor: coords.loss_factor,
         })
     }
 
@@ -164,7 +168,7 @@ impl FrRom {
         for h in 0..=self.layout.harmonics {
             let hw = h as f64 * omega;
             let a = |i: usize, j: usize| k[(i, j)] - hw * hw * m[(i, j)];
-            let b = |i: usize, j: usize| hw * c[(i, j)];
+            let b = |i: usize, j: usize| dissipation(hw, c[(i, j)], k[(i, j)], self.loss_factor);
             let sol = if h == 0 {
                 let dyy = Mat::from_fn(ny, ny, |i, j| a(nw + i, nw + j));
                 let r = Mat::from_fn(ny, 1, |i, _| out[0][nw + i]);
@@ -260,7 +264,7 @@ impl HarmonicSystem for FrRom {
             let hw = h as f64 * omega;
             let nh = p.k.nrows();
             lin.dh_re.push(Mat::from_fn(nh, nh, |i, j| p.k[(i, j)] - hw * hw * p.m[(i, j)]));
-            lin.dh_im.push(Mat::from_fn(nh, nh, |i, j| hw * p.c[(i, j)]));
+            lin.dh_im.push(Mat::from_fn(nh, nh, |i, j| dissipation(hw, p.c[(i, j)], p.k[(i, j)], self.loss_factor)));
             lin.fh_cos.push(p.f_cos.clone());
             lin.fh_sin.push(p.f_sin.clone());
         }
@@ -304,8 +308,9 @@ impl ReducedModel for FrRom {
             let (mc, ms) = (mat_vec(&p.m_phi, zc), mat_vec(&p.m_phi, zs));
             let (cc, cs) = (mat_vec(&p.c_phi, zc), mat_vec(&p.c_phi, zs));
             let n = self.n_dof;
-            let fc: Vec<f64> = (0..n).map(|i| kc[i] - hw * hw * mc[i] + hw * cs[i] - p.full_f_cos[i]).collect();
-            let fs: Vec<f64> = (0..n).map(|i| ks[i] - hw * hw * ms[i] - hw * cc[i] - p.full_f_sin[i]).collect();
+            let eta = self.loss_factor;
+            let fc: Vec<f64> = (0..n).map(|i| kc[i] - hw * hw * mc[i] + (hw * cs[i] + eta * ks[i]) - p.full_f_cos[i]).collect();
+            let fs: Vec<f64> = (0..n).map(|i| ks[i] - hw * hw * ms[i] - (hw * cc[i] + eta * kc[i]) - p.full_f_sin[i]).collect();
             out.push(fc);
             out.push(fs);
         }
