@@ -75,7 +75,7 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
     };
     compare("C", &text);
     if have_gfortran() {
-        let f = compile_fortran(&[&root().join("examples-fortran/jprom_mod.f90"), &std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fortran/fe_calculix.f90")], "fe_calculix_f90");
+        let f = compile_fortran(&[&root().join("fortran/jprom.f90"), &std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fortran/fe_calculix.f90")], "fe_calculix_f90");
         let out = std::process::Command::new(&f).arg(&deck).args(&args).output().unwrap();
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(out.status.success(), "Fortran: {text}{}", String::from_utf8_lossy(&out.stderr));

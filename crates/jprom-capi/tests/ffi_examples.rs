@@ -68,7 +68,7 @@ fn c_cpp_and_fortran_examples_print_the_rust_numbers() {
     assert_same_table("C++ RAII example", &table(&cpp_out), &expect);
     assert!(cpp_out.contains("out-of-range point rejected"), "{cpp_out}");
     if have_gfortran() {
-        let f = compile_fortran(&[&root().join("examples-fortran/jprom_mod.f90"), &root().join("examples-fortran/sweep_example.f90")], "sweep_example_f90");
+        let f = compile_fortran(&[&root().join("fortran/jprom.f90"), &root().join("examples-fortran/sweep_example.f90")], "sweep_example_f90");
         assert_same_table("Fortran example", &table(&run(&f)), &expect);
     }
 }
@@ -81,37 +81,6 @@ fn c_program_gets_documented_statuses_for_bad_input() {
     // every check printed its status and message
     let checks = out.lines().filter(|l| l.starts_with("ok ")).count();
     assert!(checks >= 12, "{out}");
-}
-
-/// Names of the functions declared in the header: every identifier `jprom_*` directly followed
-/// by `(` once comments are removed (callback typedefs read `(*jprom_x_fn)(`, so are not taken).
-fn header_functions(header: &str) -> Vec<String> {
-    let mut code = String::new();
-    let mut rest = header;
-    while let Some(i) = rest.find("/*") {
-        code.push_str(&rest[..i]);
-        rest = rest[i..].find("*/").map(|j| &rest[i + j + 2..]).unwrap_or("");
-    }
-    code.push_str(rest);
-    let code: String = code.lines().map(|l| l.split("//").next().unwrap()).collect::<Vec<_>>().join("\n");
-    let bytes = code.as_bytes();
-    let mut names = Vec::new();
-    let mut i = 0;
-    while let Some(off) = code[i..].find("jprom_") {
-        let start = i + off;
-        let mut end = start;
-        while end < bytes.len() && (bytes[end].is_ascii_alphanumeric() || bytes[end] == b'_') {
-            end += 1;
-        }
-        let word_start = start == 0 || !(bytes[start - 1].is_ascii_alphanumeric() || bytes[start - 1] == b'_');
-        if word_start && bytes.get(end) == Some(&b'(') {
-            names.push(code[start..end].to_string());
-        }
-        i = end.max(start + 1);
-    }
-    names.sort();
-    names.dedup();
-    names
 }
 
 /// `jprom_*` functions exported by the shared library (`nm -D --defined-only`).

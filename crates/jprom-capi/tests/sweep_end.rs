@@ -16,7 +16,7 @@ fn forced_stall_reports_its_reason_in_c_and_fortran() {
     assert!(out.status.success(), "C: {text}{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("end reached_end: \n") && text.contains("end stalled: stalled at omega"), "{text}");
     if have_gfortran() {
-        let f = compile_fortran(&[&root().join("examples-fortran/jprom_mod.f90"), &crate_dir().join("tests/fortran/sweep_end.f90")], "sweep_end_f90");
+        let f = compile_fortran(&[&root().join("fortran/jprom.f90"), &crate_dir().join("tests/fortran/sweep_end.f90")], "sweep_end_f90");
         let out = std::process::Command::new(&f).output().unwrap();
         let text = String::from_utf8_lossy(&out.stdout);
         println!("{text}");

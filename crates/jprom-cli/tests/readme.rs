@@ -65,3 +65,63 @@ fn deprecated_functions_listed_are_the_headers() {
     }
     assert!(!in_header.is_empty());
 }
+
+/// The install and "Use it from ..." sections (issue 15): the install command is the script CI
+/// runs, the installed file names carry the workspace version and the soname its major, the
+/// CMake targets and pkg-config modules named exist in packaging/, and every packaging/ or
+/// fortran/ path named exists.
+#[test]
+fn install_sections_match_packaging_and_ci() {
+    let text = readme();
+    let section = |title: &str| -> String {
+        let start = text.find(&format!("\n## {title}\n")).unwrap_or_else(|| panic!("README lacks the section {title}"));
+        let rest = &text[start + 4..];
+        rest[..rest.find("\n## ").unwrap_or(rest.len())].to_string()
+    };
+    let install = section("Install");
+    let usage: String = ["Use it from C++ (CMake)", "Use it from C (pkg-config)", "Use it from Fortran", "Upgrading"].iter().map(|t| section(t)).collect();
+    let all = format!("{install}{usage}");
+
+    // the command, and CI runs the same script
+    assert!(install.lines().any(|l| l.trim().starts_with("packaging/install.sh --prefix ")), "the install command");
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    assert!(ci.lines().any(|l| l.trim_start().starts_with("packaging/ci-check.sh ")), ".ci/run runs packaging/ci-check.sh");
+    let check = std::fs::read_to_string(root().join("packaging/ci-check.sh")).unwrap();
+    assert!(check.contains("packaging/install.sh --prefix"), "ci-check.sh installs with packaging/install.sh");
+
+    // versions: the installed names and the soname follow the workspace version
+    let toml = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let version = toml.lines().find_map(|l| l.strip_prefix("version = \"")).unwrap().trim_end_matches('"');
+    let major = version.split('.').next().unwrap();
+    assert!(install.contains(&format!("`lib/libjprom.so.{version}`")), "README install table names lib/libjprom.so.{version}");
+    assert!(install.contains(&format!("soname `libjprom.so.{major}`")), "README names the soname libjprom.so.{major}");
+    let minor = version.split('.').nth(1).unwrap();
+    assert!(usage.contains(&format!("find_package(jprom {major}.{minor} CONFIG REQUIRED)")), "find_package asks for this version");
+    let build_rs = std::fs::read_to_string(root().join("crates/jprom-capi/build.rs")).unwrap();
+    assert!(build_rs.contains("-Wl,-soname,{soname}") && build_rs.contains("format!(\"libjprom.so.{major}\")"), "build.rs sets the soname from the major version");
+
+    // CMake targets and pkg-config modules named in the README exist
+    let config = std::fs::read_to_string(root().join("packaging/jpromConfig.cmake.in")).unwrap();
+    let mut targets = 0;
+    for piece in all.split("jprom::").skip(1) {
+        let name: String = piece.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        assert!(config.contains(&format!("add_library(jprom::{name} ")), "README names jprom::{name}, which jpromConfig.cmake.in does not define");
+        targets += 1;
+    }
+    assert!(targets >= 4, "CMake targets named: {targets}");
+    for line in all.lines().filter(|l| l.contains("pkg-config ")) {
+        for piece in line.split("pkg-config ").skip(1) {
+            let module = piece.split_whitespace().find(|w| !w.starts_with('-')).map(|w| w.trim_matches(|c: char| !(c.is_ascii_alphanumeric() || c == '-')));
+            if let Some(m) = module.filter(|m| m.starts_with("jprom")) {
+                assert!(root().join(format!("packaging/{m}.pc.in")).exists(), "README runs pkg-config on {m}, which packaging/ does not install");
+            }
+        }
+    }
+    // every path into packaging/ or fortran/ exists
+    for piece in all.split('`').skip(1).step_by(2) {
+        if piece.starts_with("packaging/") || piece.starts_with("fortran/") {
+            let path = piece.split_whitespace().next().unwrap();
+            assert!(root().join(path).exists(), "README names {path}, which does not exist");
+        }
+    }
+}

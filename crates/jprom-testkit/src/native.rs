@@ -104,6 +104,37 @@ pub fn compile_fortran(sources: &[&Path], exe: &str) -> PathBuf {
     out
 }
 
+/// Names of the functions declared in the header: every identifier `jprom_*` directly followed
+/// by `(` once comments are removed (callback typedefs read `(*jprom_x_fn)(`, so are not taken).
+pub fn header_functions(header: &str) -> Vec<String> {
+    let mut code = String::new();
+    let mut rest = header;
+    while let Some(i) = rest.find("/*") {
+        code.push_str(&rest[..i]);
+        rest = rest[i..].find("*/").map(|j| &rest[i + j + 2..]).unwrap_or("");
+    }
+    code.push_str(rest);
+    let code: String = code.lines().map(|l| l.split("//").next().unwrap()).collect::<Vec<_>>().join("\n");
+    let bytes = code.as_bytes();
+    let mut names = Vec::new();
+    let mut i = 0;
+    while let Some(off) = code[i..].find("jprom_") {
+        let start = i + off;
+        let mut end = start;
+        while end < bytes.len() && (bytes[end].is_ascii_alphanumeric() || bytes[end] == b'_') {
+            end += 1;
+        }
+        let word_start = start == 0 || !(bytes[start - 1].is_ascii_alphanumeric() || bytes[start - 1] == b'_');
+        if word_start && bytes.get(end) == Some(&b'(') {
+            names.push(code[start..end].to_string());
+        }
+        i = end.max(start + 1);
+    }
+    names.sort();
+    names.dedup();
+    names
+}
+
 /// Runs a program, asserts exit code 0, returns stdout.
 pub fn run(exe: &Path) -> String {
     let o = Command::new(exe).output().expect("run program");
