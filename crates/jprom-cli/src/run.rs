@@ -6,11 +6,14 @@
 use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
 use jprom::aft::AftPlan;
-use jprom::fe::{BladeParams, BuiltinBlade, FeModel, NodalContact, NodalForce, Reduction};
+use jprom::fe::{BladeParams, BuiltinBlade, FeModel};
 use jprom::io::dof_map::DofMap;
+use jprom::io::calculix::{read_model_files, CalculixFiles};
 use jprom::io::matrix_market::read_symmetric_matrix_market;
+use super::check::{placement, ModelNodes};
+use super::progress::Progress;
 use jprom::condensation::CondensedSystem;
-use jprom::contact::{ContactLaw, ContactState};
+use jprom::contact::ContactState;
 use jprom::error::{JpError, Result};
 use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
@@ -19,7 +22,6 @@ use jprom::jp::prediction::PredictionOptions;
 use jprom::jp::predict_basis;
 use jprom::model::{ContactCoordinates, Damping, Model};
 use jprom::rom::{adaptive_sweep, reduced_model, AdaptiveOptions, RomKind};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::io::Write;
 use std::ops::ControlFlow;
@@ -148,28 +150,32 @@ pub struct RunSummary {
     pub basis_study_seconds: f64,
 }
 
-fn progress(len: u64, what: &str, show: bool) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(Some(len), if show { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
-    bar.set_style(ProgressStyle::with_template("{msg:28} [{bar:30}] {pos}/{len} {elapsed}").unwrap().progress_chars("=> "));
-    bar.set_message(what.to_string());
-    bar
-}
-
-/// Builds the study's model.
+/// Builds the study's model (no progress shown: [`build_model_with`]).
 ///
 /// # Errors
-/// The blade builder's and Craig-Bampton's errors; for a Matrix Market model, as
-/// [`build_matrix_market_model`].
+/// As [`build_model_with`].
 pub fn build_model(study: &Study) -> Result<Model> {
+    build_model_with(study, Progress::Quiet)
+}
+
+/// Builds the study's model, showing the import and Craig-Bampton steps on `progress`.
+///
+/// # Errors
+/// The blade builder's and Craig-Bampton's errors; for an FE model, as [`build_fe_model`].
+pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
     match &study.model {
         ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
             let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
+            let step = progress.step(format!("building the built-in blade (refinement {refinement})"));
             let fe = BuiltinBlade::build(&params)?;
+            step.done_with(&format!(", {} DoFs", fe.n_dof()));
+            let step = progress.step(format!("Craig-Bampton ({cb_modes} fixed-interface modes)"));
             let cb = fe.reduce(*cb_modes)?;
+            step.done();
             let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
             cb.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
         }
-        ModelSpec::MatrixMarket { .. } => build_matrix_market_model(study),
+        ModelSpec::MatrixMarket { .. } | ModelSpec::Calculix { .. } => build_fe_model(study, progress),
     }
 }
 
@@ -182,67 +188,66 @@ fn with_key(key: &str, e: JpError) -> JpError {
     }
 }
 
-/// A Matrix Market study's model: reads `M`, `K` and the DoF map, places the contacts, loads
-/// and outputs on node ids, and reduces by Craig-Bampton keeping the contact nodes (in
-/// `[[model.contacts]]` order), then the loaded nodes, then the output nodes, plus
-/// `cb_modes` fixed-interface modes. Loads act on boundary DoFs only, so the reduced loads are
-/// exact without the constraint modes (which are not kept).
+/// A Matrix Market study's model ([`build_fe_model`], no progress shown).
 ///
 /// # Errors
-/// File errors name the key (`model.mass`, ...), unknown node ids name the key listing them
-/// (`model.contacts[0].nodes`, ...); Craig-Bampton's and [`Model::new`]'s errors.
+/// As [`build_fe_model`].
 pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
-    let ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } = &study.model else {
-        return Err(JpError::invalid("model.kind", "not a matrix_market model"));
-    };
-    let m = read_symmetric_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
-    let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
-    let n = k.nrows();
-    if k.ncols() != n {
-        return Err(JpError::invalid("model.stiffness", format!("{}: not square ({} x {})", stiffness.display(), n, k.ncols())));
-    }
-    if m.nrows() != n || m.ncols() != n {
-        return Err(JpError::invalid("model.mass", format!("{}: {} x {}, but the stiffness is {n} x {n}", mass.display(), m.nrows(), m.ncols())));
-    }
-    let map = DofMap::load(dof_map).map_err(|e| with_key("model.dof_map", e))?;
-    if map.n_dof != n {
-        return Err(JpError::invalid("model.dof_map", format!("{}: n_dof {} but the matrices are {n} x {n}", dof_map.display(), map.n_dof)));
-    }
-    let fe = FeModel::from_dof_map(k, m, &map).map_err(|e| with_key("model.dof_map", e))?;
-    // every node id checked here, so that an unknown one is named by its study key
-    let node = |key: &str, id: i64| -> Result<()> {
-        fe.node(id).map(|_| ()).map_err(|_| JpError::invalid(key, format!("no node with id {id} in the dof map {}", dof_map.display())))
-    };
-    let mut spec = Reduction { cb_modes: *cb_modes, ..Reduction::default() };
-    for (i, set) in contacts.iter().enumerate() {
-        let key = format!("model.contacts[{i}].nodes");
-        let frame = set.frame().map_err(|r| JpError::invalid(format!("model.contacts[{i}].normal"), r))?;
-        let law = ContactLaw::Friction3D { kt1: set.kt1, kt2: set.kt2, kn: set.kn, mu: set.mu, n0: set.n0 };
-        for &id in &set.nodes {
-            node(&key, id)?;
-            if spec.contacts.iter().any(|c| c.node == id) {
-                return Err(JpError::invalid(key, format!("node {id} is a contact node twice")));
+    build_fe_model(study, Progress::Quiet)
+}
+
+/// An FE study's model: reads it (Matrix Market `M`, `K` and the DoF map, or a CalculiX job),
+/// places the contacts, loads and outputs on node ids or node sets ([`placement`]) and reduces
+/// by Craig-Bampton keeping the contact nodes (in `[[model.contacts]]` order), then the loaded
+/// nodes, then the output nodes, plus `cb_modes` fixed-interface modes. Loads act on boundary
+/// DoFs only, so the reduced loads are exact without the constraint modes (which are not kept).
+///
+/// # Errors
+/// File errors name the key (`model.mass`, `model.deck`, ...), unknown node ids or sets name
+/// the key listing them (`model.contacts[0].nodes`, ...); Craig-Bampton's and [`Model::new`]'s
+/// errors.
+pub fn build_fe_model(study: &Study, progress: Progress) -> Result<Model> {
+    let size = |p: &Path| std::fs::metadata(p).map(|m| format!(", {:.1} MB", m.len() as f64 / 1e6)).unwrap_or_default();
+    let (fe, nodes, damping_ratio) = match &study.model {
+        ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping_ratio, .. } => {
+            let step = progress.step(format!("reading model.stiffness ({}{})", stiffness.display(), size(stiffness)));
+            let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
+            step.done_with(&format!(", {} x {}, {} stored entries", k.nrows(), k.ncols(), k.compute_nnz()));
+            let step = progress.step(format!("reading model.mass ({}{})", mass.display(), size(mass)));
+            let m = read_symmetric_matrix_market(mass).map_err(|e| with_key("model.mass", e))?;
+            step.done();
+            let n = k.nrows();
+            if k.ncols() != n {
+                return Err(JpError::invalid("model.stiffness", format!("{}: not square ({} x {})", stiffness.display(), n, k.ncols())));
             }
-            spec.contacts.push(NodalContact { node: id, frame, law: law.clone() });
-        }
-    }
-    let loads = [("static", &study.forcing.static_loads), ("harmonic", &study.forcing.harmonic_loads)];
-    for (name, set) in loads {
-        for (i, l) in set.iter().enumerate() {
-            let force = l.vector().map_err(|r| JpError::invalid(format!("forcing.{name}[{i}].direction"), r))?;
-            for &id in &l.nodes {
-                node(&format!("forcing.{name}[{i}].nodes"), id)?;
-                let f = NodalForce { node: id, force };
-                if name == "static" { spec.static_forces.push(f) } else { spec.harmonic_forces.push(f) }
+            if m.nrows() != n || m.ncols() != n {
+                return Err(JpError::invalid("model.mass", format!("{}: {} x {}, but the stiffness is {n} x {n}", mass.display(), m.nrows(), m.ncols())));
             }
+            let map = DofMap::load(dof_map).map_err(|e| with_key("model.dof_map", e))?;
+            if map.n_dof != n {
+                return Err(JpError::invalid("model.dof_map", format!("{}: n_dof {} but the matrices are {n} x {n}", dof_map.display(), map.n_dof)));
+            }
+            let fe = FeModel::from_dof_map(k, m, &map).map_err(|e| with_key("model.dof_map", e))?;
+            let nodes = ModelNodes::of_fe_model(&fe, None, format!("the DoF map {}", dof_map.display()));
+            (fe, nodes, *damping_ratio)
         }
-    }
-    for &id in output_nodes {
-        node("model.output_nodes", id)?;
-        spec.outputs.extend(output_components.iter().map(|c| (id, c.index())));
-    }
+        ModelSpec::Calculix { deck, damping_ratio, .. } => {
+            let files = CalculixFiles::of_job(deck);
+            let step = progress.step(format!("reading the CalculiX job {} (.sti{}, .mas, .dof, deck)", files.inp.display(), size(&files.sti)));
+            let ccx = read_model_files(&files).map_err(|e| with_key("model.deck", e))?;
+            step.done_with(&format!(", {} DoFs", ccx.n()));
+            let fe = FeModel::from_calculix(&ccx).map_err(|e| with_key("model.deck", e))?;
+            let nodes = ModelNodes::of_fe_model(&fe, Some(ccx.node_sets.clone()), format!("the CalculiX job {}", files.inp.display()));
+            (fe, nodes, *damping_ratio)
+        }
+        ModelSpec::Blade { .. } => return Err(JpError::invalid("model.kind", "not an FE model")),
+    };
+    let spec = placement(study, &nodes).map_err(|(key, reason)| JpError::invalid(key, reason))?;
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
-    fe.reduce(&spec, Damping::from_modal_ratio(*damping_ratio, centre))
+    let step = progress.step(format!("Craig-Bampton: {} DoFs, {} boundary nodes, {} fixed-interface modes", fe.n_dof(), spec.contacts.len() + spec.static_forces.len() + spec.harmonic_forces.len(), spec.cb_modes));
+    let model = fe.reduce(&spec, Damping::from_modal_ratio(damping_ratio, centre))?;
+    step.done_with(&format!(", {} reduced DoFs", model.n_dof()));
+    Ok(model)
 }
 
 /// The row of a solver that failed before giving a sweep (its error in the warnings).
@@ -465,12 +470,22 @@ fn write_study_plots(
 /// # Errors
 /// Model building, solver and I/O errors.
 pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<RunSummary> {
+    run_study_with(study, out_dir, if show_progress { Progress::Bars } else { Progress::Quiet })
+}
+
+/// [`run_study`], showing progress on `progress`: the model's import and Craig-Bampton, the
+/// stuck mode and level reference, each sweep and each basis prediction with its sweep.
+///
+/// # Errors
+/// As [`run_study`].
+pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Result<RunSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
     let h = study.hbm.harmonics;
     let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
-    let mut model = build_model(study)?;
+    let mut model = build_model_with(study, progress)?;
+    let step = progress.step("stuck mode and level reference");
     let coords = ContactCoordinates::new(&model, h)?;
     let mut popts = PredictionOptions::new(band);
     popts.harmonics = h;
@@ -483,6 +498,7 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
     // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
     let limit = stuck_limit(&coords, &static_z, omega_st)?;
+    step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
     let build_seconds = t.elapsed().as_secs_f64();
     let mut rows = Vec::new();
     // about `points` points where the response is smooth, more at resonances and folds
@@ -508,13 +524,13 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         let mut fo_peak: Option<PointSolution> = None;
         let mut fo_warning: Option<String> = None;
         if study.solvers.full_order {
-            let bar = progress(study.band.points as u64, &format!("FO sweep, level {level:e}"), show_progress);
+            let bar = progress.bar(study.band.points as u64, &format!("FO sweep, level {level:e}"));
             let t = Instant::now();
             let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
                 bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
                 ControlFlow::Continue(())
             });
-            bar.finish_and_clear();
+            bar.done();
             let res = match res {
                 Ok(r) => r,
                 Err(e) => {
@@ -573,11 +589,11 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
         for &(name, kind) in &kinds {
             // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
             // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
-            let bar = progress(1, &format!("{name}: basis + sweep, level {level:e}"), show_progress);
+            let bar = progress.step(format!("{name}: basis prediction + self-correcting sweep, level {level:e}"));
             let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
             let t = Instant::now();
             let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts);
-            bar.finish_and_clear();
+            bar.done();
             let adaptive = match adaptive {
                 Ok(a) => a,
                 Err(e) => {
@@ -660,11 +676,11 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
             rows.push(row);
         }
         if let (Some(fo), false) = (&fo_peak, study.basis.gamma_study.is_empty()) {
-            let bar = progress(1, &format!("gamma study, level {level:e}"), show_progress);
+            let bar = progress.step(format!("gamma study, level {level:e}"));
             let t = Instant::now();
             basis_study.extend(gamma_study(study, &coords, &condensed, &popts, &hopts, &plan, fo, level, &kinds)?);
             basis_study_seconds += t.elapsed().as_secs_f64();
-            bar.finish_and_clear();
+            bar.done();
         }
         frf_series.push((level, series));
         energy_series.push((level, energies));

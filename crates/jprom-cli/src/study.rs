@@ -127,8 +127,20 @@ pub enum ModelSpec {
         /// Node-to-ground contact sets (`[[model.contacts]]`).
         contacts: Vec<ContactSetSpec>,
         /// Output node ids; the first component of the first node is the response plotted.
-        output_nodes: Vec<i64>,
+        output_nodes: Nodes,
         /// Which of each output node's DoFs are outputs (default all three).
+        output_components: Vec<Axis>,
+    },
+    /// A CalculiX job: `K`, `M` and the row of each DoF from `*MATRIX STORAGE` (`job.sti`,
+    /// `job.mas`, `job.dof` beside the deck), node coordinates and `*NSET`s from the deck
+    /// `job.inp` ([`jprom::io::calculix`]). As [`ModelSpec::MatrixMarket`] otherwise; node sets
+    /// of the deck can be named wherever node ids go.
+    Calculix {
+        deck: PathBuf,
+        cb_modes: usize,
+        damping_ratio: f64,
+        contacts: Vec<ContactSetSpec>,
+        output_nodes: Nodes,
         output_components: Vec<Axis>,
     },
 }
@@ -139,6 +151,7 @@ pub enum ModelSpec {
 pub enum ModelKind {
     Blade,
     MatrixMarket,
+    Calculix,
 }
 
 /// The `[model]` table as written: every key of every kind.
@@ -160,10 +173,12 @@ pub struct RawModel {
     pub stiffness: Option<PathBuf>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dof_map: Option<PathBuf>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deck: Option<PathBuf>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactSetSpec>,
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub output_nodes: Vec<i64>,
+    #[serde(default, skip_serializing_if = "Nodes::is_empty")]
+    pub output_nodes: Nodes,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub output_components: Option<Vec<Axis>>,
 }
@@ -178,6 +193,7 @@ impl TryFrom<RawModel> for ModelSpec {
                     ("mass", r.mass.is_some()),
                     ("stiffness", r.stiffness.is_some()),
                     ("dof_map", r.dof_map.is_some()),
+                    ("deck", r.deck.is_some()),
                     ("contacts", !r.contacts.is_empty()),
                     ("output_nodes", !r.output_nodes.is_empty()),
                     ("output_components", r.output_components.is_some()),
@@ -197,6 +213,9 @@ impl TryFrom<RawModel> for ModelSpec {
                 if r.refinement.is_some() {
                     return not_for("refinement", "matrix_market");
                 }
+                if r.deck.is_some() {
+                    return not_for("deck", "matrix_market (the CalculiX deck is for kind = \"calculix\")");
+                }
                 if r.contact.is_some() {
                     return not_for("contact", "matrix_market (use [[model.contacts]] sets)");
                 }
@@ -205,6 +224,24 @@ impl TryFrom<RawModel> for ModelSpec {
                     mass: need("mass", r.mass)?,
                     stiffness: need("stiffness", r.stiffness)?,
                     dof_map: need("dof_map", r.dof_map)?,
+                    cb_modes: r.cb_modes,
+                    damping_ratio: r.damping_ratio,
+                    contacts: r.contacts,
+                    output_nodes: r.output_nodes,
+                    output_components: r.output_components.unwrap_or_else(xyz),
+                })
+            }
+            ModelKind::Calculix => {
+                for (key, given) in [("refinement", r.refinement.is_some()), ("mass", r.mass.is_some()), ("stiffness", r.stiffness.is_some()), ("dof_map", r.dof_map.is_some())] {
+                    if given {
+                        return not_for(key, "calculix (deck = \"job.inp\" names the job: job.sti, job.mas, job.dof beside it)");
+                    }
+                }
+                if r.contact.is_some() {
+                    return not_for("contact", "calculix (use [[model.contacts]] sets)");
+                }
+                Ok(ModelSpec::Calculix {
+                    deck: r.deck.ok_or_else(|| "key 'model.deck' is required for kind = \"calculix\"".to_string())?,
                     cb_modes: r.cb_modes,
                     damping_ratio: r.damping_ratio,
                     contacts: r.contacts,
@@ -228,8 +265,9 @@ impl From<ModelSpec> for RawModel {
                 mass: None,
                 stiffness: None,
                 dof_map: None,
+                deck: None,
                 contacts: Vec::new(),
-                output_nodes: Vec::new(),
+                output_nodes: Nodes::default(),
                 output_components: None,
             },
             ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } => RawModel {
@@ -241,6 +279,21 @@ impl From<ModelSpec> for RawModel {
                 mass: Some(mass),
                 stiffness: Some(stiffness),
                 dof_map: Some(dof_map),
+                deck: None,
+                contacts,
+                output_nodes,
+                output_components: Some(output_components),
+            },
+            ModelSpec::Calculix { deck, cb_modes, damping_ratio, contacts, output_nodes, output_components } => RawModel {
+                kind: ModelKind::Calculix,
+                refinement: None,
+                cb_modes,
+                damping_ratio,
+                contact: None,
+                mass: None,
+                stiffness: None,
+                dof_map: None,
+                deck: Some(deck),
                 contacts,
                 output_nodes,
                 output_components: Some(output_components),
@@ -273,65 +326,171 @@ fn xyz() -> Vec<Axis> {
     vec![Axis::X, Axis::Y, Axis::Z]
 }
 
-/// A set of node-to-ground contacts sharing a local frame and a law (Matrix Market models).
+/// Nodes, by id or by name: a list of node ids (`nodes = [1, 2, 3]`) or the name of a node set
+/// of the model (`nodes = "TIP"`: a CalculiX `*NSET`, case-insensitive).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Nodes {
+    Ids(Vec<i64>),
+    Set(String),
+}
+
+impl Default for Nodes {
+    fn default() -> Self {
+        Nodes::Ids(Vec::new())
+    }
+}
+
+impl Nodes {
+    /// An empty list of ids (a set name is never empty here: its size is the model's).
+    pub fn is_empty(&self) -> bool {
+        matches!(self, Nodes::Ids(v) if v.is_empty())
+    }
+}
+
+impl From<Vec<i64>> for Nodes {
+    fn from(v: Vec<i64>) -> Self {
+        Nodes::Ids(v)
+    }
+}
+
+impl Serialize for Nodes {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            Nodes::Ids(v) => v.serialize(s),
+            Nodes::Set(name) => name.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Nodes {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Nodes;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a list of node ids ([1, 2, 3]) or the name of a node set (\"TIP\")")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<Nodes, E> {
+                Ok(Nodes::Set(v.to_string()))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut a: A) -> std::result::Result<Nodes, A::Error> {
+                let mut ids = Vec::new();
+                while let Some(id) = a.next_element::<i64>()? {
+                    ids.push(id);
+                }
+                Ok(Nodes::Ids(ids))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// Which way a cylindrical frame's normal points (`axis.sense`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Sense {
+    /// Away from the axis: the ground is outside the nodes (a casing around blade tips).
+    Outward,
+    /// Towards the axis: the ground is inside (a hub).
+    Inward,
+}
+
+/// A cylindrical contact frame (`axis = { origin = [..], direction = [..], sense = "outward" }`):
+/// at each node, the normal is radial from the axis (`sense` says which way), `t1` is along
+/// the axis, `t2 = n x t1` is circumferential ([`jprom::fe::cylindrical_frame`]).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSpec {
+    pub origin: [f64; 3],
+    pub direction: [f64; 3],
+    pub sense: Sense,
+}
+
+/// A set of node-to-ground contacts sharing a law (FE models). Its frame: exactly one of
+/// `normal` (one for every node), `normals` (one per node, in the order of `nodes`) and
+/// `axis` (a cylindrical frame, radial normals from the nodes' coordinates).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSetSpec {
-    /// Contact node ids (in the DoF map).
-    pub nodes: Vec<i64>,
-    /// Contact normal, pointing into the ground (normalised; need not be unit).
-    pub normal: [f64; 3],
-    /// First tangent direction `t1` (its part normal to `normal` is used); default: the global
-    /// axis most perpendicular to `normal`. `t2 = n x t1`.
-    #[serde(default)]
+    /// Contact node ids, or a node set's name.
+    pub nodes: Nodes,
+    /// Contact normal of every node, pointing into the ground (normalised; need not be unit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
+    /// One normal per node (node ids only, same order and count).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normals: Option<Vec<[f64; 3]>>,
+    /// A cylindrical frame about an axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<AxisSpec>,
+    /// First tangent direction `t1` with `normal` or `normals` (its part normal to each normal
+    /// is used); default: the global axis most perpendicular to the normal. `t2 = n x t1`.
+    /// Not with `axis` (`t1` is the axis there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangent: Option<[f64; 3]>,
-    #[serde(default = "default_mu")]
-    pub mu: f64,
-    #[serde(default = "default_kt1")]
-    pub kt1: f64,
-    #[serde(default = "default_kt2")]
-    pub kt2: f64,
-    #[serde(default = "default_kn")]
-    pub kn: f64,
+    /// The law, per node: all four required (no defaults for FE models).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kt1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kt2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kn: Option<f64>,
     /// Normal preload per node at zero normal displacement (`N = max(0, n0 + kn v)`).
     #[serde(default)]
     pub n0: f64,
 }
 
 impl ContactSetSpec {
-    fn frame_normal_ok(&self) -> bool {
-        let n = self.normal;
-        let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        nn.is_finite() && nn > 0.0
+    /// Which key sets the frame: `normal`, `normals` or `axis`, or why not exactly one.
+    pub fn frame_key(&self) -> std::result::Result<&'static str, String> {
+        let given: Vec<&'static str> = [("normal", self.normal.is_some()), ("normals", self.normals.is_some()), ("axis", self.axis.is_some())]
+            .into_iter()
+            .filter(|g| g.1)
+            .map(|g| g.0)
+            .collect();
+        match given.as_slice() {
+            [one] => Ok(one),
+            [] => Err("needs a frame: one of normal (every node), normals (one per node) or axis (cylindrical)".into()),
+            more => Err(format!("give one frame, not {}", more.join(" and "))),
+        }
     }
 
-    /// The local frame, rows `t1, t2, n` (unit, right-handed), or why not.
-    pub fn frame(&self) -> std::result::Result<[[f64; 3]; 3], String> {
-        let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        let nn = norm(self.normal);
-        if !(nn.is_finite() && nn > 0.0) {
-            return Err(format!("must be a finite nonzero vector, got {:?}", self.normal));
-        }
-        let n = self.normal.map(|x| x / nn);
-        let t = match self.tangent {
-            Some(t) => t,
-            None => {
-                // the global axis least aligned with n (first one on ties)
-                let k = (0..3).min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(0);
-                let mut e = [0.0; 3];
-                e[k] = 1.0;
-                e
-            }
+    /// The law `(mu, kt1, kt2, kn)`, or the first key missing.
+    pub fn law(&self) -> std::result::Result<(f64, f64, f64, f64), &'static str> {
+        Ok((self.mu.ok_or("mu")?, self.kt1.ok_or("kt1")?, self.kt2.ok_or("kt2")?, self.kn.ok_or("kn")?))
+    }
+
+    /// The frame of the set's `k`-th node (`coords`: its node, for `axis`), rows `t1, t2, n`,
+    /// or the offending key (`normal`, `normals[k]`, `tangent`, `axis`) and why.
+    pub fn frame_of(&self, k: usize, node: &jprom::fe::FeNode) -> std::result::Result<[[f64; 3]; 3], (String, String)> {
+        let split = |e: JpError, normal_key: String| match e {
+            JpError::InvalidValue { what, reason } if what == "tangent" => ("tangent".to_string(), reason),
+            JpError::InvalidValue { what, reason } if what == "normal" => (normal_key, reason),
+            JpError::InvalidValue { what, reason } if what == "axis" => ("axis".to_string(), reason),
+            JpError::InvalidValue { what, reason } => ("axis".to_string(), format!("{what} {reason}")),
+            other => ("axis".to_string(), other.to_string()),
         };
-        let d = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
-        let t1 = [t[0] - d * n[0], t[1] - d * n[1], t[2] - d * n[2]];
-        let nt = norm(t1);
-        if !(nt.is_finite() && nt > 1e-6 * norm(t).max(f64::MIN_POSITIVE)) {
-            return Err(format!("tangent {t:?} is zero, not finite or parallel to the normal"));
+        match self.frame_key().map_err(|r| ("normal".to_string(), r))? {
+            "normal" => jprom::fe::contact_frame(self.normal.unwrap_or_default(), self.tangent).map_err(|e| split(e, "normal".into())),
+            "normals" => {
+                let ns = self.normals.as_deref().unwrap_or_default();
+                let n = ns.get(k).ok_or_else(|| ("normals".to_string(), format!("has {} normals, but the set has more nodes", ns.len())))?;
+                jprom::fe::contact_frame(*n, self.tangent).map_err(|e| split(e, format!("normals[{k}]")))
+            }
+            _ => {
+                let a = self.axis.as_ref().expect("axis");
+                if self.tangent.is_some() {
+                    return Err(("tangent".into(), "does not apply to a cylindrical frame (t1 is the axis)".into()));
+                }
+                let sense = match a.sense {
+                    Sense::Outward => jprom::fe::RadialSense::Outward,
+                    Sense::Inward => jprom::fe::RadialSense::Inward,
+                };
+                node.cylindrical_frame(a.origin, a.direction, sense).map_err(|e| split(e, "normal".into()))
+            }
         }
-        let t1 = t1.map(|x| x / nt);
-        let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
-        Ok([t1, t2, n])
     }
 }
 
@@ -339,7 +498,8 @@ impl ContactSetSpec {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct NodalLoad {
-    pub nodes: Vec<i64>,
+    /// Node ids, or a node set's name.
+    pub nodes: Nodes,
     pub direction: [f64; 3],
     /// Force per node.
     pub magnitude: f64,
@@ -564,10 +724,14 @@ impl Study {
                 *p = base.join(&*p);
             }
         };
-        if let ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } = &mut self.model {
-            fix(mass);
-            fix(stiffness);
-            fix(dof_map);
+        match &mut self.model {
+            ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } => {
+                fix(mass);
+                fix(stiffness);
+                fix(dof_map);
+            }
+            ModelSpec::Calculix { deck, .. } => fix(deck),
+            ModelSpec::Blade { .. } => {}
         }
         fix(&mut self.output.dir);
     }
@@ -578,7 +742,18 @@ impl Study {
         let study: Study = serde_path_to_error::deserialize(de).map_err(|e| {
             let key = e.path().to_string();
             let inner = e.into_inner();
-            parse_error(text, inner.span().map(|s| s.start), &format!("key '{key}': {}", inner.message()))
+            let message = inner.message();
+            match inner.span() {
+                Some(span) => parse_error(text, Some(span.start), &format!("key '{key}': {message}")),
+                // an error of a whole table (a key of the wrong model kind, a required key
+                // missing): the line of the key it names, else of the table
+                None => {
+                    let named = message.strip_prefix("key '").and_then(|m| m.split('\'').next()).unwrap_or(&key);
+                    let line = toml_line(text, &key_path(named)).or_else(|| toml_line(text, &key_path(&key))).unwrap_or(0);
+                    let reason = if message.starts_with("key '") { message.to_string() } else { format!("key '{key}': {message}") };
+                    JpError::Parse { path: "<study>".into(), line, reason }
+                }
+            }
         })?;
         study.check().map_err(|(key, reason)| study_error(toml_line(text, &key_path(&key)).unwrap_or(0), &key, &reason))?;
         Ok(study)
@@ -627,20 +802,59 @@ impl Study {
                 }
                 (*cb_modes, *damping_ratio, Some(contact))
             }
-            ModelSpec::MatrixMarket { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. } => {
+            ModelSpec::MatrixMarket { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. }
+            | ModelSpec::Calculix { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. } => {
+                let kind = if matches!(self.model, ModelSpec::Calculix { .. }) { "calculix" } else { "matrix_market" };
                 if contacts.is_empty() {
-                    return bad("model.contacts", "a matrix_market model needs at least one [[model.contacts]] set".into());
+                    return bad("model.contacts", format!("a {kind} model needs at least one [[model.contacts]] set"));
                 }
                 for (i, c) in contacts.iter().enumerate() {
                     let key = |k: &str| format!("model.contacts[{i}].{k}");
                     if c.nodes.is_empty() {
-                        return bad(&key("nodes"), "needs at least one node id".into());
+                        return bad(&key("nodes"), "needs at least one node id (or a node set's name)".into());
                     }
-                    if let Err(reason) = c.frame() {
-                        let k = if c.frame_normal_ok() { "tangent" } else { "normal" };
-                        return bad(&key(k), reason);
+                    let frame = c.frame_key().map_err(|r| (key("nodes"), r))?;
+                    match (frame, &c.nodes) {
+                        ("normal", _) => {
+                            if let Err((k, reason)) = c.frame_of(0, &jprom::fe::FeNode { id: 0, coords: None, dofs: [None; 6] }) {
+                                return bad(&key(&k), reason);
+                            }
+                        }
+                        ("normals", Nodes::Set(name)) => {
+                            return bad(&key("normals"), format!("needs node ids in `nodes` (one normal per id, in order), not the set \"{name}\": use normal or axis for a set"));
+                        }
+                        ("normals", Nodes::Ids(ids)) => {
+                            let ns = c.normals.as_deref().unwrap_or_default();
+                            if ns.len() != ids.len() {
+                                return bad(&key("normals"), format!("{} normals for {} nodes: give one per node, in the order of `nodes`", ns.len(), ids.len()));
+                            }
+                            for k in 0..ns.len() {
+                                if let Err((kk, reason)) = c.frame_of(k, &jprom::fe::FeNode { id: 0, coords: None, dofs: [None; 6] }) {
+                                    return bad(&key(&kk), reason);
+                                }
+                            }
+                        }
+                        _ => {
+                            // the axis alone (each node's frame needs its coordinates: checked with the model)
+                            // (at a point off the axis: origin + the global axis least aligned with it)
+                            let a = c.axis.as_ref().map(|a| (a.origin, a.direction)).unwrap_or_default();
+                            let k = (0..3).min_by(|&i, &j| a.1[i].abs().total_cmp(&a.1[j].abs())).unwrap_or(0);
+                            let mut p = a.0;
+                            p[k] += 1.0;
+                            let probe = jprom::fe::FeNode { id: 0, coords: Some(p), dofs: [None; 6] };
+                            if let Err((k, reason)) = c.frame_of(0, &probe) {
+                                return bad(&key(&k), reason);
+                            }
+                        }
+                    }
+                    if let Err(k) = c.law() {
+                        return bad(
+                            &key(k),
+                            format!("is required: a {kind} model's contact law has no default (give mu, kt1, kt2 and kn in every [[model.contacts]] set)"),
+                        );
                     }
                     for (k, v) in [("mu", c.mu), ("kt1", c.kt1), ("kt2", c.kt2), ("kn", c.kn)] {
+                        let v = v.unwrap_or_default();
                         if !(v.is_finite() && v >= 0.0) {
                             return bad(&key(k), format!("must be finite and >= 0, got {v}"));
                         }
@@ -650,18 +864,18 @@ impl Study {
                     }
                 }
                 if output_nodes.is_empty() {
-                    return bad("model.output_nodes", "needs at least one node id".into());
+                    return bad("model.output_nodes", "needs at least one node id (or a node set's name)".into());
                 }
                 if output_components.is_empty() {
                     return bad("model.output_components", "needs at least one of \"x\", \"y\", \"z\"".into());
                 }
                 if self.forcing.harmonic_loads.is_empty() {
-                    return bad("forcing.harmonic", "a matrix_market model needs at least one [[forcing.harmonic]] load".into());
+                    return bad("forcing.harmonic", format!("a {kind} model needs at least one [[forcing.harmonic]] load"));
                 }
                 for (name, loads) in [("static", &self.forcing.static_loads), ("harmonic", &self.forcing.harmonic_loads)] {
                     for (i, l) in loads.iter().enumerate() {
                         if l.nodes.is_empty() {
-                            return bad(&format!("forcing.{name}[{i}].nodes"), "needs at least one node id".into());
+                            return bad(&format!("forcing.{name}[{i}].nodes"), "needs at least one node id (or a node set's name)".into());
                         }
                         if !l.magnitude.is_finite() {
                             return bad(&format!("forcing.{name}[{i}].magnitude"), format!("must be finite, got {}", l.magnitude));
@@ -676,10 +890,10 @@ impl Study {
         };
         if matches!(self.model, ModelSpec::Blade { .. }) {
             if !self.forcing.static_loads.is_empty() {
-                return bad("forcing.static", "nodal loads are for model.kind = \"matrix_market\" (the blade has its own)".into());
+                return bad("forcing.static", "nodal loads are for FE models, kind = \"matrix_market\" or \"calculix\" (the blade has its own)".into());
             }
             if !self.forcing.harmonic_loads.is_empty() {
-                return bad("forcing.harmonic", "nodal loads are for model.kind = \"matrix_market\" (the blade has its own)".into());
+                return bad("forcing.harmonic", "nodal loads are for FE models, kind = \"matrix_market\" or \"calculix\" (the blade has its own)".into());
             }
         }
         if cb_modes == 0 {

@@ -87,7 +87,8 @@ fn gamma_study_values_name_their_key() {
 
 #[test]
 fn a_study_prints_and_reads_back_the_same() {
-    for text in ["[model]\nkind = \"blade\"\n", "[model]\nkind = \"matrix_market\"\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"\ndof_map = \"n.json\"\noutput_nodes = [7]\n[[model.contacts]]\nnodes = [1]\nnormal = [0.0, 0.0, 1.0]\n[[forcing.harmonic]]\nnodes = [7]\ndirection = [1.0, 0.0, 0.0]\nmagnitude = 2.0\n"] {
+    for text in ["[model]\nkind = \"blade\"\n", "[model]\nkind = \"matrix_market\"\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"\ndof_map = \"n.json\"\noutput_nodes = [7]\n[[model.contacts]]\nnodes = [1]\nnormal = [0.0, 0.0, 1.0]\nmu = 0.3\nkt1 = 1.0\nkt2 = 1.0\nkn = 2.0\n[[forcing.harmonic]]\nnodes = [7]\ndirection = [1.0, 0.0, 0.0]\nmagnitude = 2.0\n",
+        "[model]\nkind = \"calculix\"\ndeck = \"job.inp\"\noutput_nodes = \"OUT\"\n[[model.contacts]]\nnodes = \"TIP\"\naxis = { origin = [0.0, 0.0, 0.0], direction = [0.0, 0.0, 1.0], sense = \"outward\" }\nmu = 0.3\nkt1 = 1.0\nkt2 = 1.0\nkn = 2.0\n[[model.contacts]]\nnodes = [3, 4]\nnormals = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]\nmu = 0.3\nkt1 = 1.0\nkt2 = 1.0\nkn = 2.0\n[[forcing.harmonic]]\nnodes = \"LOAD\"\ndirection = [1.0, 0.0, 0.0]\nmagnitude = 2.0\n"] {
         let s = Study::from_toml_str(text).unwrap();
         let again = Study::from_toml_str(&toml::to_string_pretty(&s).unwrap()).unwrap();
         assert_eq!(s, again);
