@@ -29,10 +29,10 @@ static const double KT = 2.0e3, KN = 2.0e4, MU = 0.3, N0 = 1.0;
 static const double FRAME[9] = {0, 1, 0, 0, 0, 1, 1, 0, 0};
 /* Fixed-interface modes kept by Craig-Bampton (besides the contact, load and output nodes). */
 static const size_t CB_MODES = 12;
-/* The band (rad/s, 860 to 1345 Hz: from just below the first free mode), stiffness-proportional
- * damping beta = 2 zeta / omega for a 0.5 % ratio at its centre, and the first-harmonic force
- * (N along y at LOAD). These are the values of the test crates/jprom-capi/tests/fe_model_c.rs. */
-static const double OMEGA_LO = 5.4e3, OMEGA_HI = 8.45e3, BETA = 1.44e-6, FORCE = 1.0;
+/* Modal damping ratio of every mode of the reduced model, the band around the stuck mode the
+ * load drives most (the linear limit, contacts stuck: its frequency times 1 -/+ BAND), and the
+ * first-harmonic force (N along y at LOAD). */
+static const double ZETA = 0.005, BAND = 0.15, FORCE = 1.0;
 
 static int fail(jprom_status s, const char *what) {
     fprintf(stderr, "%s failed: %s: %s\n", what, jprom_status_name((int)s), jprom_last_error_message());
@@ -73,7 +73,17 @@ int main(int argc, char **argv) {
     jprom_fe_model_free(fe);
     size_t n_red = 0;
     TRY(jprom_model_n_dof(model, &n_red));
-    TRY(jprom_model_set_rayleigh_damping(model, 0.0, BETA));
+    TRY(jprom_model_set_modal_damping_ratios(model, NULL, 0, ZETA));
+
+    /* the natural frequencies: contacts open, and stuck (the band goes around the first stuck one) */
+    double free_hz[3], stuck_hz[3], modal_force[3];
+    TRY(jprom_model_modes(model, 0, free_hz, NULL, 3, NULL));
+    TRY(jprom_model_modes(model, 1, stuck_hz, modal_force, 3, NULL));
+    /* the stuck mode the load drives most (the largest modal force) of the lowest three */
+    int k = 0;
+    for (int i = 1; i < 3; ++i) if (modal_force[i] > modal_force[k]) k = i;
+    const double two_pi = 6.283185307179586;
+    const double omega_lo = (1.0 - BAND) * two_pi * stuck_hz[k], omega_hi = (1.0 + BAND) * two_pi * stuck_hz[k];
 
     /* 4. the self-correcting JP sweep: a basis predicted from the stuck mode, the NLR ROM swept
      * over the band, the basis corrected where the error predictor e*_1 says so */
@@ -83,8 +93,8 @@ int main(int argc, char **argv) {
     TRY(jprom_hbm_options_default(&opts));
     TRY(jprom_sweep_options_default(&band));
     TRY(jprom_jp_options_default(&jp));
-    band.omega_start = OMEGA_LO;
-    band.omega_end = OMEGA_HI;
+    band.omega_start = omega_lo;
+    band.omega_end = omega_hi;
     jprom_sweep_result *sweep = NULL;
     TRY(jprom_rom_sweep_adaptive(model, JPROM_ROM_NLR, &opts, &band, &jp, NULL, NULL, &sweep, NULL));
 
@@ -94,6 +104,8 @@ int main(int argc, char **argv) {
     TRY(jprom_sweep_n_corrections(sweep, &n_corr));
     TRY(jprom_sweep_end_reason(sweep, &end));
     printf("# %s: %zu DoFs, %zu tip contacts, reduced to %zu DoFs\n", deck, n_dof, n_tip, n_red);
+    printf("# first modes, contacts open: %.6g %.6g %.6g Hz; stuck: %.6g %.6g %.6g Hz (modal force %.3g %.3g %.3g)\n",
+           free_hz[0], free_hz[1], free_hz[2], stuck_hz[0], stuck_hz[1], stuck_hz[2], modal_force[0], modal_force[1], modal_force[2]);
     printf("# JP NLR sweep: %zu points, %zu basis corrections, end: %s\n", n, n_corr, jprom_sweep_end_name((int)end));
     printf("# omega_rad_s X1_out0_y e*_1\n");
     for (size_t i = 0; i < n; ++i) {

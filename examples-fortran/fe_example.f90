@@ -16,7 +16,10 @@ program fe_example
   ! contact (N/mm, N), fixed-interface modes, band (rad/s), damping, force (N): as in the C example
   real(c_double), parameter :: kt = 2.0d3, kn = 2.0d4, mu = 0.3d0, n0 = 1.0d0
   integer, parameter :: cb_modes = 12
-  real(c_double), parameter :: omega_lo = 5.4d3, omega_hi = 8.45d3, beta = 1.44d-6, force = 1.0d0
+  real(c_double), parameter :: zeta = 0.005d0, band_width = 0.15d0, force = 1.0d0
+  real(c_double), parameter :: two_pi = 6.283185307179586d0
+  real(c_double) :: free_hz(3), stuck_hz(3), modal_force(3), omega_lo, omega_hi
+  integer :: k
   character(len=1024) :: deck, msg
   character(len=512) :: why
   real(c_double) :: frame(3, 3), omega, e1
@@ -52,7 +55,15 @@ program fe_example
   call check(jp_fe_reduce(fe, cb_modes, model, msg), 'jp_fe_reduce')
   i = jp_fe_free(fe)
   call check(jp_model_sizes(model, n_red, n_contacts, n_outputs, msg), 'jp_model_sizes')
-  call check(jp_set_damping(model, 0d0, beta, msg), 'jp_set_damping')
+  call check(jp_set_modal_damping_ratios(model, [real(c_double) ::], zeta, msg), 'jp_set_modal_damping_ratios')
+
+  ! natural frequencies, contacts open and stuck; the band goes around the stuck mode the load
+  ! drives most (largest modal force) of the lowest three
+  call check(jp_model_modes(model, .false., free_hz, message=msg), 'jp_model_modes (free)')
+  call check(jp_model_modes(model, .true., stuck_hz, modal_force, message=msg), 'jp_model_modes (stuck)')
+  k = maxloc(modal_force, 1)
+  omega_lo = (1d0 - band_width) * two_pi * stuck_hz(k)
+  omega_hi = (1d0 + band_width) * two_pi * stuck_hz(k)
   allocate (amps(n_outputs))
 
   ! 4. the self-correcting JP sweep (NLR ROM) over the band
@@ -66,6 +77,9 @@ program fe_example
   i = jp_sweep_end(sweep, reason, why)
   write (*, '(a, a, a, i0, a, i0, a, i0, a)') '# ', trim(deck), ': ', n_dof, ' DoFs, ', n_tip, &
     ' tip contacts, reduced to ', n_red, ' DoFs'
+  write (*, '(a, 3(g0.6, a), 3(g0.6, a), 3(g0.3, a))') '# first modes, contacts open: ', free_hz(1), ' ', free_hz(2), ' ', &
+    free_hz(3), ' Hz; stuck: ', stuck_hz(1), ' ', stuck_hz(2), ' ', stuck_hz(3), ' Hz (modal force ', modal_force(1), ' ', &
+    modal_force(2), ' ', modal_force(3), ')'
   if (reason == JPROM_SWEEP_REACHED_END) why = 'reached_end'
   write (*, '(a, i0, a, i0, a, a)') '# JP NLR sweep: ', n, ' points, ', n_corr, ' basis corrections, end: ', trim(why)
   write (*, '(a)') '# omega_rad_s X1_out0_y e*_1'

@@ -332,12 +332,28 @@ jprom_status jprom_fe_add_output(jprom_fe_model *fe, int64_t node, size_t direct
 // Keeps node `node` (its x, y, z) in the reduced model although nothing is placed on it.
 jprom_status jprom_fe_keep_node(jprom_fe_model *fe, int64_t node);
 
+// Sets the FE model's viscous damping matrix `C` (compressed sparse column form like `K` and
+// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_reduce`
+// reduces it with the model (`T^T C T`) into the reduced model's added damping matrix.
+jprom_status jprom_fe_model_set_damping_csc(jprom_fe_model *fe,
+                                            size_t n,
+                                            const size_t *damping_colptr,
+                                            const size_t *damping_rowind,
+                                            const double *damping_values);
+
+// The `n_modes` lowest natural frequencies (Hz) of the FE model on its own supports (no
+// contact), by sparse shift-invert Lanczos (a free structure's rigid-body modes come out as
+// 0), into `frequency_hz[n_modes]`. `n_modes` must not exceed the DoF count.
+jprom_status jprom_fe_model_modes(const jprom_fe_model *fe, size_t n_modes, double *frequency_hz);
+
 // Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
 // loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
-// new model has no damping (set it with `jprom_model_set_rayleigh_damping` or
-// `jprom_model_set_modal_damping`); its contact `i` is the `i`-th added, its output `j` the
-// `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
-jprom_status jprom_fe_reduce(const jprom_fe_model *fe, size_t cb_modes, jprom_model **out);
+// new model's damping is the reduced FE `C` if one was set (`jprom_fe_model_set_damping_csc`),
+// else none; add Rayleigh, modal or structural damping with the `jprom_model_set_*` damping
+// functions. Its contact `i` is the `i`-th added, its output `j` the `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
+jprom_status jprom_fe_reduce(const jprom_fe_model *fe,
+                             size_t cb_modes,
+                             jprom_model **out);
 
 // Predicts a JP basis for `model` without any full-order solution: boundary conditions
 // sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
@@ -548,6 +564,39 @@ jprom_status jprom_model_set_rayleigh_damping(jprom_model *model, double alpha, 
 // Stiffness-proportional damping with modal damping ratio `zeta` at angular frequency
 // `omega` (rad/s): `beta = 2 zeta / omega`, `alpha = 0`.
 jprom_status jprom_model_set_modal_damping(jprom_model *model, double zeta, double omega);
+
+// Viscous damping matrix added to the Rayleigh part: `C = alpha M + beta K + C_added`, from a
+// dense, column-major `n x n` array (`n` = the model's DoF count; symmetric). `c = NULL` with
+// `n = 0` removes it. A model from `jprom_fe_reduce` already holds the reduced FE `C` here
+// if one was set with `jprom_fe_model_set_damping_csc`; this replaces it.
+jprom_status jprom_model_set_damping_matrix(jprom_model *model, const double *c, size_t n);
+
+// Modal damping per mode, on the model's own modes (its `K` and `M`, contacts open): mode `r`
+// (counted from the lowest, rigid-body modes included) gets damping ratio `ratios[r]` for
+// `r < n_ratios` and `others` after; `C_modal = M Phi diag(2 zeta_r omega_r) Phi^T M` replaces
+// the added damping matrix (`jprom_model_set_damping_matrix`). Keep `alpha = beta = 0` for pure
+// modal damping. Ratios finite and `>= 0`.
+jprom_status jprom_model_set_modal_damping_ratios(jprom_model *model,
+                                                  const double *ratios,
+                                                  size_t n_ratios,
+                                                  double others);
+
+// Structural (hysteretic) damping: the harmonics see the stiffness `(1 + i eta) K`
+// (`eta` finite, `>= 0`; 0 removes it). The static term is undamped.
+jprom_status jprom_model_set_loss_factor(jprom_model *model, double eta);
+
+// Natural modes of the model, lowest first: with `stuck = 0` of `K`, `M` alone (contacts
+// open), with `stuck = 1` with every contact's stuck springs (`kt1, kt2, kn`) added, the linear
+// limit of a small excitation. Writes the lowest `min(len, n)` modes: `frequency_hz[k]` and, if
+// not NULL, `modal_force[k]` (`|phi^T f_E^1|` of the mass-normalised mode at the current
+// first-harmonic load); `*count` (may be NULL) receives `n`, the number of modes (the model's
+// DoF count). All modes are computed (dense, `O(n^3)`): meant for reduced models.
+jprom_status jprom_model_modes(const jprom_model *model,
+                               int32_t stuck,
+                               double *frequency_hz,
+                               double *modal_force,
+                               size_t len,
+                               size_t *count);
 
 // Static force `f_E^0` (length `n`, must equal the model's DoF count).
 jprom_status jprom_model_set_static_force(jprom_model *model, const double *force, size_t n);

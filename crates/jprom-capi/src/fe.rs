@@ -26,8 +26,8 @@ pub struct jprom_fe_model {
     magic: u64,
     fe: FeModel,
     /// Node sets (CalculiX `*NSET`s), upper-case names.
-    sets: BTreeMap<String, Vec<i64>>,
-    spec: Reduction,
+    pub(crate) sets: BTreeMap<String, Vec<i64>>,
+    pub(crate) spec: Reduction,
 }
 
 impl Handle for jprom_fe_model {
@@ -224,11 +224,51 @@ pub unsafe extern "C" fn jprom_fe_keep_node(fe: *mut jprom_fe_model, node: i64) 
     })
 }
 
+/// Sets the FE model's viscous damping matrix `C` (compressed sparse column form like `K` and
+/// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_reduce`
+/// reduces it with the model (`T^T C T`) into the reduced model's added damping matrix.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_fe_model_set_damping_csc(
+    fe: *mut jprom_fe_model,
+    n: usize,
+    damping_colptr: *const usize,
+    damping_rowind: *const usize,
+    damping_values: *const f64,
+) -> jprom_status {
+    ffi_guard!({
+        let f = handle::get_mut(fe, "fe")?;
+        let nd = f.fe.n_dof();
+        if n != nd {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("damping matrix: n = {n}, the FE model has {nd} DoFs")));
+        }
+        let c = csc_arg("damping", n, damping_colptr, damping_rowind, damping_values)?;
+        f.fe.set_damping(c)?;
+        Ok(())
+    })
+}
+
+/// The `n_modes` lowest natural frequencies (Hz) of the FE model on its own supports (no
+/// contact), by sparse shift-invert Lanczos (a free structure's rigid-body modes come out as
+/// 0), into `frequency_hz[n_modes]`. `n_modes` must not exceed the DoF count.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_fe_model_modes(fe: *const jprom_fe_model, n_modes: usize, frequency_hz: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let f = handle::get(fe, "fe")?;
+        if n_modes > f.fe.n_dof() {
+            return Err(FfiError::new(JPROM_BAD_SIZE, format!("n_modes = {n_modes} exceeds the FE model's {} DoFs", f.fe.n_dof())));
+        }
+        let out = slice_out(frequency_hz, n_modes, "frequency_hz")?;
+        let hz = f.fe.natural_frequencies_hz(n_modes)?;
+        out.copy_from_slice(&hz[..n_modes]);
+        Ok(())
+    })
+}
+
 /// Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
 /// loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
-/// new model has no damping (set it with `jprom_model_set_rayleigh_damping` or
-/// `jprom_model_set_modal_damping`); its contact `i` is the `i`-th added, its output `j` the
-/// `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
+/// new model's damping is the reduced FE `C` if one was set (`jprom_fe_model_set_damping_csc`),
+/// else none; add Rayleigh, modal or structural damping with the `jprom_model_set_*` damping
+/// functions. Its contact `i` is the `i`-th added, its output `j` the `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_fe_reduce(fe: *const jprom_fe_model, cb_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
     ffi_guard!({

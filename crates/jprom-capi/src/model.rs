@@ -3,7 +3,7 @@
 //! A model starts from `M` and `K` and is completed by setters; each setter validates the
 //! whole model and leaves it unchanged on failure.
 
-use super::guard::{csc_entries, ffi_guard, finite_arg, mul_size, out_arg, path_arg, slice_arg};
+use super::guard::{csc_entries, ffi_guard, finite_arg, mul_size, out_arg, path_arg, slice_arg, slice_out};
 use super::handle::{self, Handle};
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
@@ -212,6 +212,102 @@ pub unsafe extern "C" fn jprom_model_set_modal_damping(model: *mut jprom_model, 
             return Err(FfiError::new(JPROM_INVALID_VALUE, format!("omega must be > 0, got {omega}")));
         }
         replace_validated(&mut m.model, |m| &mut m.damping, Damping::from_modal_ratio(zeta, omega))?;
+        Ok(())
+    })
+}
+
+/// Viscous damping matrix added to the Rayleigh part: `C = alpha M + beta K + C_added`, from a
+/// dense, column-major `n x n` array (`n` = the model's DoF count; symmetric). `c = NULL` with
+/// `n = 0` removes it. A model from `jprom_fe_reduce` already holds the reduced FE `C` here
+/// if one was set with `jprom_fe_model_set_damping_csc`; this replaces it.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_damping_matrix(model: *mut jprom_model, c: *const f64, n: usize) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let value = if c.is_null() && n == 0 {
+            None
+        } else {
+            let nd = m.model.n_dof();
+            if n != nd {
+                return Err(FfiError::new(JPROM_BAD_SIZE, format!("damping matrix: n = {n}, the model has {nd} DoFs")));
+            }
+            let a = slice_arg(c, mul_size("c", n, n)?, "c")?;
+            if let Some(p) = a.iter().position(|v| !v.is_finite()) {
+                return Err(FfiError::new(JPROM_INVALID_VALUE, format!("c[{p}] is not finite")));
+            }
+            Some(Mat::from_fn(n, n, |i, j| a[i + j * n]))
+        };
+        replace_validated(&mut m.model, |m| &mut m.added_damping, value)?;
+        Ok(())
+    })
+}
+
+/// Modal damping per mode, on the model's own modes (its `K` and `M`, contacts open): mode `r`
+/// (counted from the lowest, rigid-body modes included) gets damping ratio `ratios[r]` for
+/// `r < n_ratios` and `others` after; `C_modal = M Phi diag(2 zeta_r omega_r) Phi^T M` replaces
+/// the added damping matrix (`jprom_model_set_damping_matrix`). Keep `alpha = beta = 0` for pure
+/// modal damping. Ratios finite and `>= 0`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_modal_damping_ratios(model: *mut jprom_model, ratios: *const f64, n_ratios: usize, others: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let r = slice_arg(ratios, n_ratios, "ratios")?;
+        let mut next = m.model.clone();
+        next.set_modal_damping(r, others)?;
+        m.model.added_damping = next.added_damping;
+        Ok(())
+    })
+}
+
+/// Structural (hysteretic) damping: the harmonics see the stiffness `(1 + i eta) K`
+/// (`eta` finite, `>= 0`; 0 removes it). The static term is undamped.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_set_loss_factor(model: *mut jprom_model, eta: f64) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        replace_validated(&mut m.model, |m| &mut m.loss_factor, eta)?;
+        Ok(())
+    })
+}
+
+/// Natural modes of the model, lowest first: with `stuck = 0` of `K`, `M` alone (contacts
+/// open), with `stuck = 1` with every contact's stuck springs (`kt1, kt2, kn`) added, the linear
+/// limit of a small excitation. Writes the lowest `min(len, n)` modes: `frequency_hz[k]` and, if
+/// not NULL, `modal_force[k]` (`|phi^T f_E^1|` of the mass-normalised mode at the current
+/// first-harmonic load); `*count` (may be NULL) receives `n`, the number of modes (the model's
+/// DoF count). All modes are computed (dense, `O(n^3)`): meant for reduced models.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_modes(
+    model: *const jprom_model,
+    stuck: i32,
+    frequency_hz: *mut f64,
+    modal_force: *mut f64,
+    len: usize,
+    count: *mut usize,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let boundary = match stuck {
+            0 => jprom::model::modes::Boundary::Free,
+            1 => jprom::model::modes::Boundary::Stuck,
+            s => return Err(FfiError::new(JPROM_INVALID_VALUE, format!("stuck must be 0 or 1, got {s}"))),
+        };
+        let n = m.model.n_dof();
+        let k = len.min(n);
+        let freq = slice_out(frequency_hz, k, "frequency_hz")?;
+        let force = if modal_force.is_null() { None } else { Some(slice_out(modal_force, k, "modal_force")?) };
+        let modes = jprom::model::modes::natural_modes(&m.model, boundary)?;
+        for (i, mode) in modes.iter().take(k).enumerate() {
+            freq[i] = mode.frequency_hz;
+        }
+        if let Some(force) = force {
+            for (i, mode) in modes.iter().take(k).enumerate() {
+                force[i] = mode.modal_force;
+            }
+        }
+        if let Some(c) = count.as_mut() {
+            *c = n;
+        }
         Ok(())
     })
 }

@@ -4,6 +4,7 @@
 // the deprecated functions are tested as well: they stay in the ABI
 #![allow(deprecated)]
 
+mod ffi_damping;
 mod ffi_fe;
 mod ffi_files;
 mod ffi_hardening;
