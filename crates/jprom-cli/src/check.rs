@@ -30,6 +30,8 @@ pub struct ModelNodes {
     source: String,
     /// Whether the model has node sets at all (a DoF map has none).
     has_sets: bool,
+    /// Nodes the mesh defines that have no DoF (clamped, or used by no element).
+    without_dofs: std::collections::HashSet<i64>,
 }
 
 impl ModelNodes {
@@ -37,7 +39,14 @@ impl ModelNodes {
     /// no sets, as a DoF map).
     pub fn of_fe_model(fe: &FeModel, sets: Option<BTreeMap<String, Vec<i64>>>, source: String) -> Self {
         let nodes = fe.nodes().iter().map(|n| (n.id, n.clone())).collect();
-        ModelNodes { nodes, has_sets: sets.is_some(), sets: sets.unwrap_or_default(), source }
+        ModelNodes { nodes, has_sets: sets.is_some(), sets: sets.unwrap_or_default(), source, without_dofs: Default::default() }
+    }
+
+    /// Declares the nodes of the mesh (`defined`) that are not nodes of the model: they have no
+    /// DoF (for messages).
+    pub fn with_mesh_nodes(mut self, defined: impl IntoIterator<Item = i64>) -> Self {
+        self.without_dofs = defined.into_iter().filter(|id| !self.nodes.contains_key(id)).collect();
+        self
     }
 
     fn of_dof_map(map: &DofMap, source: String) -> Self {
@@ -52,7 +61,7 @@ impl ModelNodes {
                 (nd.id, FeNode { id: nd.id, coords: Some(nd.coords), dofs })
             })
             .collect();
-        ModelNodes { nodes, sets: BTreeMap::new(), source, has_sets: false }
+        ModelNodes { nodes, sets: BTreeMap::new(), source, has_sets: false, without_dofs: Default::default() }
     }
 
     /// Number of nodes.
@@ -87,7 +96,13 @@ impl ModelNodes {
         };
         let of_set = set.map(|s| format!(" (of node set \"{s}\")")).unwrap_or_default();
         for &id in &ids {
-            let node = self.nodes.get(&id).ok_or_else(|| bad(format!("no node with id {id}{of_set} in {}", self.source)))?;
+            let node = self.nodes.get(&id).ok_or_else(|| {
+                if self.without_dofs.contains(&id) {
+                    bad(format!("node {id}{of_set} has no active DoF in {} (fixed by *BOUNDARY, or used by no element)", self.source))
+                } else {
+                    bad(format!("no node with id {id}{of_set} in {}", self.source))
+                }
+            })?;
             if let Err(e) = node.translations() {
                 let reason = match e {
                     JpError::InvalidValue { what, reason } => format!("{what}{of_set} {reason}"),
@@ -242,7 +257,8 @@ pub fn check_files(study: &Study) -> std::result::Result<FileReport, Bad> {
                 files.sti.display(),
                 files.mas.display()
             ));
-            ModelNodes { nodes, sets: mesh.node_sets, source: format!("the CalculiX job {}", files.inp.display()), has_sets: true }
+            let defined: Vec<i64> = mesh.coords.keys().copied().collect();
+            ModelNodes { nodes, sets: mesh.node_sets, source: format!("the CalculiX job {}", files.inp.display()), has_sets: true, without_dofs: Default::default() }.with_mesh_nodes(defined)
         }
     };
     let spec = placement(study, &nodes)?;

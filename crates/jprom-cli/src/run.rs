@@ -237,7 +237,7 @@ pub fn build_fe_model(study: &Study, progress: Progress) -> Result<Model> {
             let ccx = read_model_files(&files).map_err(|e| with_key("model.deck", e))?;
             step.done_with(&format!(", {} DoFs", ccx.n()));
             let fe = FeModel::from_calculix(&ccx).map_err(|e| with_key("model.deck", e))?;
-            let nodes = ModelNodes::of_fe_model(&fe, Some(ccx.node_sets.clone()), format!("the CalculiX job {}", files.inp.display()));
+            let nodes = ModelNodes::of_fe_model(&fe, Some(ccx.node_sets.clone()), format!("the CalculiX job {}", files.inp.display())).with_mesh_nodes(ccx.coords.keys().copied());
             (fe, nodes, *damping_ratio)
         }
         ModelSpec::Blade { .. } => return Err(JpError::invalid("model.kind", "not an FE model")),

@@ -234,7 +234,7 @@ impl TryFrom<RawModel> for ModelSpec {
             ModelKind::Calculix => {
                 for (key, given) in [("refinement", r.refinement.is_some()), ("mass", r.mass.is_some()), ("stiffness", r.stiffness.is_some()), ("dof_map", r.dof_map.is_some())] {
                     if given {
-                        return not_for(key, "calculix (deck = \"job.inp\" names the job: job.sti, job.mas, job.dof beside it)");
+                        return Err(format!("key 'model.{key}' does not apply to kind = \"calculix\" (deck = \"job.inp\" names the job: job.sti, job.mas, job.dof beside it)"));
                     }
                 }
                 if r.contact.is_some() {
@@ -743,11 +743,15 @@ impl Study {
             let key = e.path().to_string();
             let inner = e.into_inner();
             let message = inner.message();
-            match inner.span() {
-                Some(span) => parse_error(text, Some(span.start), &format!("key '{key}': {message}")),
+            // an error of a whole table that names a key inside it (a key of the wrong model
+            // kind): the line of that key
+            let named_line = message.strip_prefix("key '").and_then(|m| m.split('\'').next()).and_then(|k| toml_line(text, &key_path(k)));
+            match (inner.span(), named_line) {
+                (_, Some(line)) if message.starts_with("key '") => JpError::Parse { path: "<study>".into(), line, reason: message.to_string() },
+                (Some(span), _) => parse_error(text, Some(span.start), &format!("key '{key}': {message}")),
                 // an error of a whole table (a key of the wrong model kind, a required key
                 // missing): the line of the key it names, else of the table
-                None => {
+                (None, _) => {
                     let named = message.strip_prefix("key '").and_then(|m| m.split('\'').next()).unwrap_or(&key);
                     let line = toml_line(text, &key_path(named)).or_else(|| toml_line(text, &key_path(&key))).unwrap_or(0);
                     let reason = if message.starts_with("key '") { message.to_string() } else { format!("key '{key}': {message}") };
