@@ -3,7 +3,7 @@
 //!
 //! ```toml
 //! [model]
-//! kind = "blade"            # built-in shrouded blade, or "matrix_market" (see below)
+//! kind = "blade"            # built-in shrouded blade, "matrix_market" or "calculix" (see below)
 //! refinement = 1            # blade only: 2 (2r + 1)^2 contact nodes: 1 -> 18, 5 -> 242, 15 -> 1,922 (at most 15)
 //! cb_modes = 50             # Craig-Bampton fixed-interface modes
 //! damping_ratio = 0.002     # modal damping ratio at the band centre (stiffness-proportional)
@@ -49,15 +49,16 @@
 //! output_nodes = [501, 502]
 //! output_components = ["y"] # default ["x", "y", "z"]; outputs are node-major
 //!
-//! [[model.contacts]]        # one set per frame and law; node-to-ground
+//! [[model.contacts]]        # one set per law; node-to-ground
 //! nodes = [1, 2, 3]
-//! normal = [-1.0, 0.0, 0.0] # into the ground
+//! normal = [-1.0, 0.0, 0.0] # into the ground, every node; or normals = [[..], [..], [..]] (one
+//!                           # per node id, in order); or a cylindrical frame (below)
 //! tangent = [0.0, 1.0, 0.0] # optional t1 (default: the axis most perpendicular to normal)
-//! mu = 0.4
+//! mu = 0.4                  # mu, kt1, kt2, kn: required (no defaults for FE models)
 //! kt1 = 2.0e4
 //! kt2 = 2.0e4
 //! kn = 2.3e4
-//! n0 = 0.0                  # optional normal preload per node
+//! n0 = 0.0                  # optional normal preload per node (default 0)
 //!
 //! [forcing]
 //! levels = [0.1]
@@ -70,6 +71,32 @@
 //! direction = [0.0, 1.0, 0.0]
 //! magnitude = 1.0
 //! ```
+//!
+//! A CalculiX model: `deck` is the job's input deck `job.inp`; `job.sti`, `job.mas`, `job.dof`
+//! (from `*FREQUENCY, SOLVER=MATRIXSTORAGE`) are beside it. Node coordinates and `*NSET`s come
+//! from the deck (and its `*INCLUDE`s), and a node set's name (case-insensitive) can stand
+//! wherever node ids go:
+//!
+//! ```toml
+//! [model]
+//! kind = "calculix"
+//! deck = "blade.inp"
+//! output_nodes = "OUT"
+//!
+//! [[model.contacts]]
+//! nodes = "TIP"
+//! # cylindrical frame: at each node n is radial from the axis (sense = "outward": away from
+//! # it, the ground outside, e.g. a casing; "inward": towards it), t1 along the axis, t2 = n x t1
+//! axis = { origin = [0.0, 0.0, 0.0], direction = [0.0, 0.0, 1.0], sense = "outward" }
+//! mu = 0.3
+//! kt1 = 1.0e4
+//! kt2 = 1.0e4
+//! kn = 2.0e4
+//! ```
+//!
+//! `jprom check` opens every file the study names (Matrix Market headers and size lines, not
+//! the entries; the DoF map; the CalculiX `.dof` and deck) and checks every node id, node set
+//! and frame against the model ([`crate::check`]); it prints the defaults it applied.
 //!
 //! Unknown keys are errors, and every error names the offending key and its line. Sizes have
 //! documented caps ([`jprom::limits`]): `hbm.nt` <= 65536, `band.points` <= 100000,
