@@ -20,7 +20,7 @@ fn run_case(refinement: usize, do_cb: bool) {
     let t_build = t.elapsed().as_secs_f64();
     let (t_cb, n_red, f1) = if do_cb {
         let t = Instant::now();
-        let cb = fe.reduce_with(CbOptions { n_modes: 50, keep_recovery: true }).expect("reduce");
+        let cb = fe.reduce_with(CbOptions { n_modes: 50, keep_recovery: true, cutoff_hz: None }).expect("reduce");
         let t_cb = t.elapsed().as_secs_f64();
         let f1 = if cb.cb.n_reduced() <= 1500 { cb.natural_frequencies_hz(true).map(|f| f[0]).unwrap_or(f64::NAN) } else { f64::NAN };
         (t_cb, cb.cb.n_reduced(), f1)

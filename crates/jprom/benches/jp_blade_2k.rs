@@ -98,7 +98,7 @@ fn main() {
             let n_contacts = fe.contacts.len();
             let t_fe = stage(&format!("FE model: {n_fe} DoFs, {n_contacts} contact nodes"), t);
             let t = Instant::now();
-            let cb = fe.reduce_with(CbOptions { n_modes: 50, keep_recovery: false }).expect("CB");
+            let cb = fe.reduce_with(CbOptions { n_modes: 50, keep_recovery: false, cutoff_hz: None }).expect("CB");
             drop(fe);
             let t_cb = stage(&format!("Craig-Bampton: {} reduced DoFs", cb.cb.n_reduced()), t);
             let rss_cb = vm_hwm_mb();

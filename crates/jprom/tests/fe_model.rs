@@ -126,3 +126,70 @@ fn fe_model_errors_name_the_node() {
     let e = message(fe.reduce(&spec, Damping::default()).unwrap_err());
     assert!(e.contains("not a translation"), "{e}");
 }
+
+/// A cut-off frequency keeps exactly the fixed-interface modes below it: the block reduced with
+/// a cut-off between its 7th and 8th fixed-interface modes equals the one reduced with 7 modes.
+#[test]
+fn craig_bampton_cutoff_keeps_the_modes_below_it() {
+    let ccx = read_model(&data("block").join("block.inp")).unwrap();
+    let fe = FeModel::from_calculix(&ccx).unwrap();
+    // the boundary FeModel::reduce makes: contact nodes, then loaded, then output nodes, once each
+    let spec0 = block_reduction(&ccx, 0);
+    let mut nodes: Vec<i64> = spec0.contacts.iter().map(|c| c.node).collect();
+    for id in spec0.harmonic_forces.iter().map(|f| f.node).chain(spec0.outputs.iter().map(|o| o.0)) {
+        if !nodes.contains(&id) {
+            nodes.push(id);
+        }
+    }
+    let boundary: Vec<usize> = nodes.iter().flat_map(|&id| fe.node(id).unwrap().translations().unwrap()).collect();
+    let all = jprom::fe::CraigBampton::reduce(&fe.stiffness, &fe.mass, &boundary, jprom::fe::CbOptions { n_modes: 30, keep_recovery: false, cutoff_hz: None }).unwrap();
+    let hz = all.modal_frequencies_hz();
+    let cut = 0.5 * (hz[6] + hz[7]);
+    let mut spec = block_reduction(&ccx, 200);
+    spec.cb_cutoff_hz = Some(cut);
+    let with_cut = fe.reduce(&spec, Damping::default()).unwrap();
+    let with_7 = fe.reduce(&block_reduction(&ccx, 7), Damping::default()).unwrap();
+    assert_eq!(with_cut.n_dof(), with_7.n_dof(), "cut-off at {cut:.1} Hz keeps 7 modes");
+    let (a, b) = (free_hz(&with_cut), free_hz(&with_7));
+    for (x, y) in a.iter().zip(&b).take(10) {
+        assert!((x / y - 1.0).abs() < 1e-8, "{x} vs {y}");
+    }
+    // a cap below the count under the cut-off wins; a bad cut-off is refused
+    spec.cb_modes = 3;
+    assert_eq!(fe.reduce(&spec, Damping::default()).unwrap().n_dof(), with_7.n_dof() - 4);
+    spec.cb_cutoff_hz = Some(-1.0);
+    let e = fe.reduce(&spec, Damping::default()).unwrap_err().to_string();
+    assert!(e.contains("cut-off"), "{e}");
+}
+
+/// Fixing DoFs removes their rows and columns: the result equals the dense matrices with them
+/// deleted, and a clamped node stiffens the structure.
+#[test]
+fn fixed_dofs_are_removed_from_the_fe_model() {
+    let ccx = read_model(&data("block").join("block.inp")).unwrap();
+    let fe = FeModel::from_calculix(&ccx).unwrap();
+    let out = ccx.node_set("OUT").unwrap().to_vec();
+    let fixed: Vec<(i64, usize)> = out.iter().flat_map(|&id| (0..3).map(move |d| (id, d))).collect();
+    let clamped = fe.with_fixed(&fixed).unwrap();
+    assert_eq!(clamped.n_dof(), fe.n_dof() - fixed.len());
+    let removed: Vec<usize> = fixed.iter().map(|&(id, d)| fe.node(id).unwrap().dofs[d].unwrap()).collect();
+    let kept: Vec<usize> = (0..fe.n_dof()).filter(|r| !removed.contains(r)).collect();
+    let (k0, k1) = (jprom::linalg::sparse_to_dense(&fe.stiffness), jprom::linalg::sparse_to_dense(&clamped.stiffness));
+    for (i, &ri) in kept.iter().enumerate().step_by(7) {
+        for (j, &rj) in kept.iter().enumerate().step_by(5) {
+            assert_eq!(k1[(i, j)], k0[(ri, rj)]);
+        }
+    }
+    for &id in &out {
+        assert!(clamped.node(id).unwrap().translations().is_err(), "node {id} keeps no translation");
+    }
+    let (f0, f1) = (fe.natural_frequencies_hz(3).unwrap(), clamped.natural_frequencies_hz(3).unwrap());
+    assert!(f1[0] > f0[0], "clamping stiffens: {} vs {} Hz", f1[0], f0[0]);
+    // errors name the node
+    let e = fe.with_fixed(&[(99999, 0)]).unwrap_err().to_string();
+    assert!(e.contains("node 99999"), "{e}");
+    let e = fe.with_fixed(&[(out[0], 6)]).unwrap_err().to_string();
+    assert!(e.contains("direction 6"), "{e}");
+    let e = clamped.with_fixed(&[(out[0], 1)]).unwrap_err().to_string();
+    assert!(e.contains(&format!("node {}", out[0])) && e.contains("no active direction 1"), "{e}");
+}

@@ -493,7 +493,7 @@ impl BladeFe {
     /// # Errors
     /// As [`CraigBampton::reduce`].
     pub fn reduce(&self, n_modes: usize) -> Result<CbModel> {
-        self.reduce_with(CbOptions { n_modes, keep_recovery: true })
+        self.reduce_with(CbOptions { n_modes, keep_recovery: true, cutoff_hz: None })
     }
 
     /// [`BladeFe::reduce`] with explicit options.

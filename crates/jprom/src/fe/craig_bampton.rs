@@ -34,11 +34,14 @@ pub struct CbOptions {
     /// reduction holds no `n_i x n_b` dense block at all (the factor of `K_ii` plus a few
     /// `n_i x 256` blocks), which is what makes thousands of boundary DoFs fit.
     pub keep_recovery: bool,
+    /// A cut-off frequency (Hz): keep the fixed-interface modes up to it, at most `n_modes` of
+    /// them (`n_modes` is then a cap). `None`: exactly `n_modes` (or all there are).
+    pub cutoff_hz: Option<f64>,
 }
 
 impl Default for CbOptions {
     fn default() -> Self {
-        CbOptions { n_modes: 50, keep_recovery: true }
+        CbOptions { n_modes: 50, keep_recovery: true, cutoff_hz: None }
     }
 }
 
@@ -119,25 +122,32 @@ impl CraigBampton {
         if ni == 0 {
             return Err(JpError::invalid("boundary DoFs", "no interior DoF left to reduce"));
         }
-        let n_modes = options.n_modes.min(ni);
+        if let Some(fc) = options.cutoff_hz {
+            if !(fc.is_finite() && fc > 0.0) {
+                return Err(JpError::invalid("Craig-Bampton cut-off frequency", format!("must be finite and > 0 Hz, got {fc}")));
+            }
+        }
 
         let k_ii = sparse_submatrix(k, &i_map, ni, &interior);
         let k_ib = sparse_submatrix(k, &i_map, ni, boundary);
         let k_bb = sparse_dense_block(k, &b_map, nb, boundary);
+        let m_ii = sparse_submatrix(m, &i_map, ni, &interior);
+        let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
+        let modes = fixed_interface_modes(&chol, &m_ii, options.n_modes.min(ni), options.cutoff_hz)?;
+        let n_modes = modes.eigenvalues.len();
+        let phi = modes.vectors;
         let nr = nb + n_modes;
         // M and C are projected alike (`T^T A T`, A = M, C)
+        let mut m_ii = Some(m_ii);
         let mut projected: Vec<MassLike> = std::iter::once(m)
             .chain(c)
             .map(|a| {
                 let mut red = Mat::<f64>::zeros(nr, nr);
                 red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&sparse_dense_block(a, &b_map, nb, boundary));
-                MassLike { a_ii: sparse_submatrix(a, &i_map, ni, &interior), a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
+                let a_ii = m_ii.take().unwrap_or_else(|| sparse_submatrix(a, &i_map, ni, &interior));
+                MassLike { a_ii, a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
             })
             .collect();
-
-        let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
-        let modes = lowest_modes(&chol, &projected[0].a_ii, n_modes)?;
-        let phi = modes.vectors;
 
         let par = Par::rayon(0);
         let mut k_red = Mat::<f64>::zeros(nr, nr);
@@ -305,6 +315,28 @@ impl CraigBampton {
             x[d] = xi[(r, 0)];
         }
         Ok(x)
+    }
+}
+
+/// The lowest `cap` fixed-interface modes, or with a cut-off those up to `cutoff_hz` (at most
+/// `cap`): computed in batches that double until one reaches past the cut-off.
+fn fixed_interface_modes(chol: &SparseCholesky, m_ii: &SparseMat, cap: usize, cutoff_hz: Option<f64>) -> Result<crate::linalg::lanczos::SparseEigen> {
+    let Some(fc) = cutoff_hz else {
+        return lowest_modes(chol, m_ii, cap);
+    };
+    let lambda_cut = (2.0 * std::f64::consts::PI * fc).powi(2);
+    let mut k = cap.min(20);
+    loop {
+        let modes = lowest_modes(chol, m_ii, k)?;
+        let below = modes.eigenvalues.iter().take_while(|&&l| l <= lambda_cut).count();
+        if below < modes.eigenvalues.len() || k >= cap {
+            let n = modes.vectors.nrows();
+            return Ok(crate::linalg::lanczos::SparseEigen {
+                eigenvalues: modes.eigenvalues[..below].to_vec(),
+                vectors: modes.vectors.as_ref().submatrix(0, 0, n, below).to_owned(),
+            });
+        }
+        k = (2 * k).min(cap);
     }
 }
 

@@ -190,8 +190,10 @@ pub struct Reduction {
     pub outputs: Vec<(i64, usize)>,
     /// Nodes kept as boundary besides those above.
     pub extra_nodes: Vec<i64>,
-    /// Fixed-interface modes kept.
+    /// Fixed-interface modes kept (a cap when `cb_cutoff_hz` is set).
     pub cb_modes: usize,
+    /// Keep the fixed-interface modes up to this frequency (Hz), at most `cb_modes` of them.
+    pub cb_cutoff_hz: Option<f64>,
 }
 
 impl FeModel {
@@ -320,6 +322,43 @@ impl FeModel {
         Ok(modes.eigenvalues.iter().map(|l| (l - shift).max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect())
     }
 
+    /// The model with DoFs fixed (clamped): `(node, direction 0..6)` pairs; their rows and
+    /// columns of `K`, `M` (and `C`) are removed and the nodes lose those directions. For FE
+    /// exports without supports (a free blade whose root is to be clamped).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming a node that is not in the model, a direction above 5 or
+    /// one the node does not have (fixed twice, or not in its element), or a model left with no
+    /// DoF.
+    pub fn with_fixed(&self, fixed: &[(i64, usize)]) -> Result<FeModel> {
+        let n = self.n_dof();
+        let mut keep = vec![true; n];
+        for &(id, d) in fixed {
+            if d >= DIRECTIONS {
+                return Err(JpError::invalid(format!("fixed DoF of node {id}"), format!("direction {d} is not 0..6 (x, y, z, rx, ry, rz)")));
+            }
+            let row = self.node(id)?.dofs[d].ok_or_else(|| JpError::invalid(format!("fixed DoF of node {id}"), format!("the node has no active direction {d} (fixed already, or not in its element)")))?;
+            keep[row] = false;
+        }
+        let kept: Vec<usize> = (0..n).filter(|&r| keep[r]).collect();
+        if kept.is_empty() {
+            return Err(JpError::invalid("fixed DoFs", "every DoF of the model is fixed"));
+        }
+        let mut new_row = vec![usize::MAX; n];
+        for (i, &r) in kept.iter().enumerate() {
+            new_row[r] = i;
+        }
+        let sub = |a: &SparseMat| crate::linalg::sparse::sparse_submatrix(a, &new_row, kept.len(), &kept);
+        let nodes = self
+            .nodes
+            .iter()
+            .map(|nd| FeNode { dofs: nd.dofs.map(|r| r.and_then(|r| (new_row[r] != usize::MAX).then_some(new_row[r]))), ..nd.clone() })
+            .collect();
+        let mut out = FeModel::new(sub(&self.stiffness), sub(&self.mass), nodes)?;
+        out.damping = self.damping.as_ref().map(sub);
+        Ok(out)
+    }
+
     /// The viscous damping matrix `C`, if set.
     pub fn damping(&self) -> Option<&SparseMat> {
         self.damping.as_ref()
@@ -374,7 +413,7 @@ impl FeModel {
         for &id in &boundary_nodes {
             boundary.extend(self.node(id)?.translations()?);
         }
-        let options = CbOptions { n_modes: spec.cb_modes, keep_recovery: false };
+        let options = CbOptions { n_modes: spec.cb_modes, keep_recovery: false, cutoff_hz: spec.cb_cutoff_hz };
         let cb = CraigBampton::reduce_with_damping(&self.stiffness, &self.mass, self.damping.as_ref(), &boundary, options)?;
         let n_red = cb.n_reduced();
         let place = |forces: &[NodalForce]| {
