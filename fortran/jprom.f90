@@ -636,6 +636,19 @@ module jprom_c
       integer(c_size_t), dimension(*), intent(in) :: colptr, rowind
       real(c_double), dimension(*), intent(in) :: values
     end function
+    integer(c_int) function jprom_fe_fix_dof(fe, node, direction) bind(C, name="jprom_fe_fix_dof")
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: direction
+    end function
+    integer(c_int) function jprom_fe_reduce_cutoff(fe, cutoff_hz, max_modes, model) bind(C, name="jprom_fe_reduce_cutoff")
+      import :: c_int, c_ptr, c_size_t, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: cutoff_hz
+      integer(c_size_t), value :: max_modes
+      type(c_ptr), intent(out) :: model
+    end function
     integer(c_int) function jprom_fe_model_modes(fe, n_modes, frequency_hz) bind(C, name="jprom_fe_model_modes")
       import :: c_int, c_ptr, c_size_t, c_double
       type(c_ptr), value :: fe
@@ -688,7 +701,7 @@ module jprom
             jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce
   ! damping forms and natural modes
   public :: jp_set_damping_matrix, jp_set_modal_damping_ratios, jp_set_loss_factor, jp_model_modes, &
-            jp_fe_set_damping_csc, jp_fe_modes
+            jp_fe_set_damping_csc, jp_fe_modes, jp_fe_fix_dof, jp_fe_reduce_cutoff
 
   interface
     ! the C library's strlen, to read the library's NUL-terminated strings
@@ -1691,6 +1704,27 @@ contains
     end if
     jp_fe_set_damping_csc = finish(jprom_fe_model_set_damping_csc(fe, int(n, c_size_t), c_index(colptr), &
                                    c_index(rowind), values), message)
+  end function
+
+  !> Fixes (clamps) direction (1..6: x, y, z, rx, ry, rz) of node: its row and column leave K, M, C.
+  integer function jp_fe_fix_dof(fe, node, direction, message)
+    use jprom_c, only: jprom_fe_fix_dof
+    type(c_ptr), intent(in) :: fe
+    integer(c_int64_t), intent(in) :: node
+    integer, intent(in) :: direction
+    character(len=*), intent(out), optional :: message
+    jp_fe_fix_dof = finish(jprom_fe_fix_dof(fe, node, c_index(direction)), message)
+  end function
+
+  !> Craig-Bampton keeping the fixed-interface modes up to cutoff_hz, at most max_modes.
+  integer function jp_fe_reduce_cutoff(fe, cutoff_hz, max_modes, model, message)
+    use jprom_c, only: jprom_fe_reduce_cutoff
+    type(c_ptr), intent(in) :: fe
+    real(c_double), intent(in) :: cutoff_hz
+    integer, intent(in) :: max_modes
+    type(c_ptr), intent(out) :: model
+    character(len=*), intent(out), optional :: message
+    jp_fe_reduce_cutoff = finish(jprom_fe_reduce_cutoff(fe, cutoff_hz, int(max_modes, c_size_t), model), message)
   end function
 
   !> The lowest size(frequency_hz) natural frequencies (Hz) of the FE model on its supports.

@@ -346,6 +346,19 @@ jprom_status jprom_fe_model_set_damping_csc(jprom_fe_model *fe,
 // 0), into `frequency_hz[n_modes]`. `n_modes` must not exceed the DoF count.
 jprom_status jprom_fe_model_modes(const jprom_fe_model *fe, size_t n_modes, double *frequency_hz);
 
+// Fixes (clamps) direction `direction` (0..5: x, y, z, rx, ry, rz) of node `node`: its row and
+// column leave `K`, `M` and `C`, for FE exports without supports. Call before placing
+// contacts, forces, outputs or kept nodes (those are checked against the current DoFs; a
+// contact on a node that loses a translation is refused).
+jprom_status jprom_fe_fix_dof(jprom_fe_model *fe, int64_t node, size_t direction);
+
+// As `jprom_fe_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
+// most `max_modes` of them. `*out` is written only on success.
+jprom_status jprom_fe_reduce_cutoff(const jprom_fe_model *fe,
+                                    double cutoff_hz,
+                                    size_t max_modes,
+                                    jprom_model **out);
+
 // Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
 // loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
 // new model's damping is the reduced FE `C` if one was set (`jprom_fe_model_set_damping_csc`),

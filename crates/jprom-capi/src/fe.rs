@@ -264,6 +264,38 @@ pub unsafe extern "C" fn jprom_fe_model_modes(fe: *const jprom_fe_model, n_modes
     })
 }
 
+/// Fixes (clamps) direction `direction` (0..5: x, y, z, rx, ry, rz) of node `node`: its row and
+/// column leave `K`, `M` and `C`, for FE exports without supports. Call before placing
+/// contacts, forces, outputs or kept nodes (those are checked against the current DoFs; a
+/// contact on a node that loses a translation is refused).
+#[no_mangle]
+pub unsafe extern "C" fn jprom_fe_fix_dof(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
+    ffi_guard!({
+        let f = handle::get_mut(fe, "fe")?;
+        let placed = f.spec.contacts.iter().map(|c| c.node).chain(f.spec.static_forces.iter().chain(&f.spec.harmonic_forces).map(|l| l.node));
+        let placed: Vec<i64> = placed.chain(f.spec.outputs.iter().map(|o| o.0)).chain(f.spec.extra_nodes.iter().copied()).collect();
+        if direction < 3 && placed.contains(&node) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("node {node} carries a contact, force, output or is kept: its translations cannot be fixed")));
+        }
+        f.fe = f.fe.with_fixed(&[(node, direction)])?;
+        Ok(())
+    })
+}
+
+/// As `jprom_fe_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
+/// most `max_modes` of them. `*out` is written only on success.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_fe_reduce_cutoff(fe: *const jprom_fe_model, cutoff_hz: f64, max_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
+    ffi_guard!({
+        let f = handle::get(fe, "fe")?;
+        let out = out_arg(out, "out")?;
+        finite_arg("cutoff_hz", cutoff_hz)?;
+        let spec = Reduction { cb_modes: max_modes, cb_cutoff_hz: Some(cutoff_hz), ..f.spec.clone() };
+        *out = jprom_model::wrap(f.fe.reduce(&spec, Damping::default())?);
+        Ok(())
+    })
+}
+
 /// Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
 /// loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
 /// new model's damping is the reduced FE `C` if one was set (`jprom_fe_model_set_damping_csc`),

@@ -141,3 +141,42 @@ fn damping_and_modes_from_c_equal_the_rust_api() {
         assert_eq!(jprom_fe_model_free(fe), jprom_status::JPROM_OK);
     }
 }
+
+/// `jprom_fe_fix_dof` and `jprom_fe_reduce_cutoff` equal `FeModel::with_fixed` and a reduction
+/// with `cb_cutoff_hz`; a placed node's translation cannot be fixed; bad cut-offs are refused.
+#[test]
+fn fixed_dofs_and_cutoff_from_c_equal_the_rust_api() {
+    unsafe {
+        let mut fe = null_mut();
+        assert_eq!(jprom_fe_model_load_calculix(block_inp().as_ptr(), &mut fe), jprom_status::JPROM_OK, "{}", message());
+        let rust_fe = FeModel::from_calculix(&read_model(std::path::Path::new(block_inp().to_str().unwrap())).unwrap()).unwrap();
+        let out_node = (&(*fe).sets)["OUT"][0];
+        let load = (&(*fe).sets)["LOAD"][0];
+        for d in 0..3 {
+            assert_eq!(jprom_fe_fix_dof(fe, out_node, d), jprom_status::JPROM_OK, "{}", message());
+        }
+        let mut n = 0usize;
+        assert_eq!(jprom_fe_model_n_dof(fe, &mut n), jprom_status::JPROM_OK);
+        assert_eq!(n, rust_fe.n_dof() - 3);
+        assert_eq!(jprom_fe_fix_dof(fe, out_node, 1), jprom_status::JPROM_INVALID_VALUE, "fixed twice");
+        assert!(message().contains(&format!("node {out_node}")), "{}", message());
+        assert_eq!(jprom_fe_fix_dof(fe, 99999, 0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_fix_dof(fe, load, 6), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_add_force(fe, load, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_fix_dof(fe, load, 1), jprom_status::JPROM_INVALID_VALUE, "a loaded node keeps its translations");
+        assert!(message().contains("cannot be fixed"), "{}", message());
+
+        let fixed = rust_fe.with_fixed(&[(out_node, 0), (out_node, 1), (out_node, 2)]).unwrap();
+        let spec = jprom::fe::Reduction { cb_modes: 40, cb_cutoff_hz: Some(30_000.0), ..(*fe).spec.clone() };
+        let rust = fixed.reduce(&spec, Damping::default()).unwrap();
+        let mut model = null_mut();
+        assert_eq!(jprom_fe_reduce_cutoff(fe, 30_000.0, 40, &mut model), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!((*model).model, rust);
+        assert!(rust.n_dof() < 3 + 40, "the cut-off keeps fewer than the cap");
+        assert_eq!(jprom_fe_reduce_cutoff(fe, f64::NAN, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_reduce_cutoff(fe, -5.0, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
+        assert!(message().contains("cut-off"), "{}", message());
+        assert_eq!(jprom_model_free(model), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_free(fe), jprom_status::JPROM_OK);
+    }
+}
