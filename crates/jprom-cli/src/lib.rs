@@ -1,7 +1,8 @@
 //! The `jprom` program's library: study files ([`study`]), running a study and writing its
-//! CSV, JSON and tables ([`run`]), plots ([`plots`]). The numerics are the `jprom` crate's.
+//! CSV, JSON and tables ([`run`]), the natural modes of its model ([`modes`]), plots ([`plots`]). The numerics are the `jprom` crate's.
 pub mod check;
 pub mod locate;
+pub mod modes;
 pub mod plots;
 pub mod progress;
 pub mod run;

@@ -4,7 +4,14 @@
 //! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
 //! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
 //! jprom check STUDY                validate a study file and every file and node it names
+//! jprom modes STUDY [--count N]    natural frequencies: FE model, CB model free and stuck
 //! ```
+//!
+//! `modes` lists the lowest `N` (default 10) natural frequencies of an FE model on its supports
+//! (sparse shift-invert Lanczos), the modes of the reduced (Craig-Bampton) model with the
+//! contacts open and stuck with their modal forces and participations (`*` marks the stuck modes
+//! in the band), the stuck mode `run` uses for the band, and a warning when the band holds no
+//! stuck mode (`run` puts the same warning in its summary).
 //!
 //! `--quiet` silences the progress on standard error (bars on a terminal, plain lines with
 //! elapsed seconds otherwise). A reader that leaves early (`jprom check STUDY | head -1`)
@@ -17,6 +24,7 @@
 //! `--keep-partial` or `output.keep_partial = true` makes that a success).
 
 use jprom_cli::check::check_study_file;
+use jprom_cli::modes::{modes_report, modes_table};
 use jprom_cli::progress::Progress;
 use jprom_cli::run::{run_study_with, summary_table};
 use jprom_cli::study::Study;
@@ -30,6 +38,11 @@ const USAGE: &str = "usage:
                                  run a study file (.toml or .json)
   jprom check STUDY              validate a study file and the files and nodes it names
                                  (without reading the matrices), print it with its defaults
+  jprom modes STUDY [--count N] [--quiet]
+                                 natural frequencies of the FE model (lowest N, default 10), of
+                                 its Craig-Bampton model with contacts open and stuck (modal
+                                 forces, participation; * a stuck mode in the band), the stuck
+                                 mode for the band and a warning if the band holds none
   --quiet                        no progress on standard error
   jprom --help
 exit status: 0 done (every output written), 1 the run failed (model, solver or an output
@@ -53,6 +66,17 @@ fn out_dir(args: &[String], default: &str) -> Result<PathBuf, Failure> {
     match args.iter().position(|a| a == "--out") {
         Some(i) => args.get(i + 1).map(PathBuf::from).ok_or_else(|| Failure::Usage("--out needs a directory".to_string())),
         None => Ok(PathBuf::from(default)),
+    }
+}
+
+/// `--count N` (default 10), a positive integer.
+fn count_arg(args: &[String]) -> Result<usize, Failure> {
+    match args.iter().position(|a| a == "--count") {
+        Some(i) => match args.get(i + 1).map(|v| v.parse::<usize>()) {
+            Some(Ok(n)) if n > 0 => Ok(n),
+            _ => Err(Failure::Usage("--count needs a positive integer".to_string())),
+        },
+        None => Ok(10),
     }
 }
 
@@ -97,6 +121,15 @@ fn main() -> ExitCode {
         Some("check") => match args.get(1) {
             Some(path) if !path.starts_with("--") => check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string())).and_then(|text| print_out(&text)),
             _ => Err(Failure::Usage(format!("check needs a study file\n{USAGE}"))),
+        },
+        Some("modes") => match args.get(1) {
+            Some(path) if !path.starts_with("--") => count_arg(&args).and_then(|count| {
+                let study = study_from(path)?;
+                check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))?;
+                let report = modes_report(&study, count, progress).map_err(|e| Failure::Run(e.to_string()))?;
+                print_out(&modes_table(&report, count))
+            }),
+            _ => Err(Failure::Usage(format!("modes needs a study file\n{USAGE}"))),
         },
         Some(other) => Err(Failure::Usage(format!("unknown command '{other}'\n{USAGE}"))),
     };

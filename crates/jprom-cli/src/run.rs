@@ -6,7 +6,7 @@
 use super::plots::{write_plot, Legend, PlotSpec, Series};
 use super::study::{ModelSpec, Study};
 use jprom::aft::AftPlan;
-use jprom::fe::{BladeParams, BuiltinBlade, FeModel};
+use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
 use jprom::io::calculix::{read_model_files, CalculixFiles};
 use jprom::io::matrix_market::read_symmetric_matrix_market;
@@ -133,6 +133,9 @@ pub struct RunSummary {
     pub model_dofs: usize,
     pub contacts: usize,
     pub stuck_resonance_hz: f64,
+    /// Whether that stuck mode (the one nearest the band centre, which the levels and the basis
+    /// prediction use) lies inside the band.
+    pub stuck_mode_in_band: bool,
     /// `alpha_ST = |f_E^0| / |f_E^1|` at which the stuck resonance just reaches the friction
     /// limit ([`jprom::level`]); `None` when the contacts are closed by their preload alone.
     pub alpha_st: Option<f64>,
@@ -142,6 +145,8 @@ pub struct RunSummary {
     pub level_reference: String,
     /// The sweeps that did not cover the band, one line each (solver, level, why, where).
     pub incomplete: Vec<String>,
+    /// What the reader of the whole study must know (the band holds no stuck mode).
+    pub warnings: Vec<String>,
     pub build_seconds: f64,
     pub rows: Vec<SolverRow>,
     /// The error-vs-basis-size study (`basis.gamma_study`), empty if not asked for.
@@ -196,17 +201,32 @@ pub fn build_matrix_market_model(study: &Study) -> Result<Model> {
     build_fe_model(study, Progress::Quiet)
 }
 
-/// An FE study's model: reads it (Matrix Market `M`, `K` and the DoF map, or a CalculiX job),
-/// places the contacts, loads and outputs on node ids or node sets ([`placement`]) and reduces
-/// by Craig-Bampton keeping the contact nodes (in `[[model.contacts]]` order), then the loaded
-/// nodes, then the output nodes, plus `cb_modes` fixed-interface modes. Loads act on boundary
-/// DoFs only, so the reduced loads are exact without the constraint modes (which are not kept).
+/// An FE study's model: [`read_fe_model`], then [`reduce_fe_model`].
+///
+/// # Errors
+/// As [`read_fe_model`] and [`reduce_fe_model`].
+pub fn build_fe_model(study: &Study, progress: Progress) -> Result<Model> {
+    reduce_fe_model(study, &read_fe_model(study, progress)?, progress)
+}
+
+/// An FE study's model before reduction: the FE model on its supports, where the study puts
+/// contacts, loads and outputs on it, and the damping the study asks for.
+pub struct FeStudyModel {
+    pub fe: FeModel,
+    /// The contacts, loads, outputs and fixed-interface modes of the Craig-Bampton reduction.
+    pub reduction: Reduction,
+    pub damping_ratio: f64,
+}
+
+/// Reads an FE study's model (Matrix Market `M`, `K` and the DoF map, or a CalculiX job) and
+/// places the contacts, loads and outputs on node ids or node sets ([`placement`]), showing the
+/// import on `progress` (`jprom run` reduces it next, `jprom modes` lists its frequencies).
 ///
 /// # Errors
 /// File errors name the key (`model.mass`, `model.deck`, ...), unknown node ids or sets name
-/// the key listing them (`model.contacts[0].nodes`, ...); Craig-Bampton's and [`Model::new`]'s
-/// errors.
-pub fn build_fe_model(study: &Study, progress: Progress) -> Result<Model> {
+/// the key listing them (`model.contacts[0].nodes`, ...); [`JpError::InvalidValue`] for a
+/// study whose model is not an FE model.
+pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> {
     let size = |p: &Path| std::fs::metadata(p).map(|m| format!(", {:.1} MB", m.len() as f64 / 1e6)).unwrap_or_default();
     let (fe, nodes, damping_ratio) = match &study.model {
         ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping_ratio, .. } => {
@@ -242,7 +262,20 @@ pub fn build_fe_model(study: &Study, progress: Progress) -> Result<Model> {
         }
         ModelSpec::Blade { .. } => return Err(JpError::invalid("model.kind", "not an FE model")),
     };
-    let spec = placement(study, &nodes).map_err(|(key, reason)| JpError::invalid(key, reason))?;
+    let reduction = placement(study, &nodes).map_err(|(key, reason)| JpError::invalid(key, reason))?;
+    Ok(FeStudyModel { fe, reduction, damping_ratio })
+}
+
+/// Reduces a read FE study model by Craig-Bampton keeping the contact nodes (in
+/// `[[model.contacts]]` order), then the loaded nodes, then the output nodes, plus `cb_modes`
+/// fixed-interface modes, showing the step on `progress`. Loads act on boundary DoFs only, so
+/// the reduced loads are exact without the constraint modes (which are not kept).
+///
+/// # Errors
+/// Craig-Bampton's and [`Model::new`]'s errors.
+pub fn reduce_fe_model(study: &Study, read: &FeStudyModel, progress: Progress) -> Result<Model> {
+    let FeStudyModel { fe, reduction: spec, damping_ratio } = read;
+    let damping_ratio = *damping_ratio;
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
     let step = progress.step(format!("Craig-Bampton: {} DoFs, {} boundary nodes, {} fixed-interface modes", fe.n_dof(), spec.contacts.len() + spec.static_forces.len() + spec.harmonic_forces.len(), spec.cb_modes));
     let model = fe.reduce(&spec, Damping::from_modal_ratio(damping_ratio, centre))?;
@@ -499,6 +532,17 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
     // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
     let limit = stuck_limit(&coords, &static_z, omega_st)?;
     step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
+    let mut study_warnings = Vec::new();
+    let stuck_mode_in_band = super::modes::in_band(omega_st / TWO_PI, (study.band.hz_start, study.band.hz_end));
+    if !stuck_mode_in_band {
+        // the cheap test failed: all stuck modes (dense, this path only) to say where they are
+        let band_hz = (study.band.hz_start, study.band.hz_end);
+        let warning = match jprom::model::modes::natural_modes(&model, jprom::model::modes::Boundary::Stuck) {
+            Ok(stuck) => super::modes::band_warning(&stuck, band_hz, omega_st / TWO_PI),
+            Err(e) => Some(super::modes::band_warning_without_modes(band_hz, omega_st / TWO_PI, &e)),
+        };
+        study_warnings.extend(warning);
+    }
     let build_seconds = t.elapsed().as_secs_f64();
     let mut rows = Vec::new();
     // about `points` points where the response is smooth, more at resonances and folds
@@ -696,10 +740,12 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         model_dofs: model.n_dof(),
         contacts: model.contacts.len(),
         stuck_resonance_hz: omega_st / TWO_PI,
+        stuck_mode_in_band,
         alpha_st: limit.alpha,
         stuck_limit_force: limit.force,
         level_reference: limit.describe(),
         incomplete,
+        warnings: study_warnings,
         build_seconds,
         rows,
         basis_study,
@@ -722,6 +768,14 @@ pub fn summary_table(s: &RunSummary) -> String {
         "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, {alpha}, built in {:.1} s\n",
         s.model_dofs, s.contacts, s.stuck_resonance_hz, s.build_seconds
     );
+    out.push_str(&format!(
+        "stuck mode for the band (nearest its centre; levels and bases use it): {:.3} Hz, {}\n",
+        s.stuck_resonance_hz,
+        if s.stuck_mode_in_band { "in the band" } else { "outside the band (!)" }
+    ));
+    for w in &s.warnings {
+        out.push_str(&format!("(!) {w}\n"));
+    }
     out.push_str(&format!(
         "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
         "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
