@@ -152,7 +152,7 @@ pub fn modes_table(r: &ModesReport, count: usize) -> String {
             None => format!("{:>18} {:>12} {:>13}", "-", "-", "-"),
         };
         let mark = r.stuck.get(i).map_or("", |m| if in_band(m.frequency_hz, r.band_hz) { "*" } else { "" });
-        out.push_str(&format!("{:>6} {} {} {}\n", i + 1, cols(r.free.get(i)), cols(r.stuck.get(i)), mark).trim_end());
+        out.push_str(format!("{:>6} {} {} {}", i + 1, cols(r.free.get(i)), cols(r.stuck.get(i)), mark).trim_end());
         out.push('\n');
     }
     let inside = r.stuck.iter().filter(|m| in_band(m.frequency_hz, r.band_hz)).count();
