@@ -115,11 +115,11 @@ impl ModelNodes {
     }
 }
 
-/// The FE parts of a study's model: contact sets, output nodes and components, `cb_modes`.
-fn fe_parts(study: &Study) -> Option<(&[ContactSetSpec], &Nodes, &[Axis], usize)> {
+/// The FE parts of a study's model: contact sets, output nodes and components, `cb_modes`, `cb_cutoff_hz`.
+fn fe_parts(study: &Study) -> Option<(&[ContactSetSpec], &Nodes, &[Axis], usize, Option<f64>)> {
     match &study.model {
-        ModelSpec::MatrixMarket { contacts, output_nodes, output_components, cb_modes, .. }
-        | ModelSpec::Calculix { contacts, output_nodes, output_components, cb_modes, .. } => Some((contacts, output_nodes, output_components, *cb_modes)),
+        ModelSpec::MatrixMarket { contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz, .. }
+        | ModelSpec::Calculix { contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz, .. } => Some((contacts, output_nodes, output_components, *cb_modes, *cb_cutoff_hz)),
         ModelSpec::Blade { .. } => None,
     }
 }
@@ -131,10 +131,10 @@ fn fe_parts(study: &Study) -> Option<(&[ContactSetSpec], &Nodes, &[Axis], usize)
 /// The key and why: an unknown node id or set name, a node without its translations, a
 /// contact node given twice, a frame that cannot be built (a node on the axis).
 pub fn placement(study: &Study, nodes: &ModelNodes) -> std::result::Result<Reduction, Bad> {
-    let Some((contacts, output_nodes, output_components, cb_modes)) = fe_parts(study) else {
+    let Some((contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz)) = fe_parts(study) else {
         return Err(("model.kind".into(), "not an FE model".into()));
     };
-    let mut spec = Reduction { cb_modes, ..Reduction::default() };
+    let mut spec = Reduction { cb_modes, cb_cutoff_hz, ..Reduction::default() };
     let mut contact_key: HashMap<i64, usize> = HashMap::new();
     for (i, set) in contacts.iter().enumerate() {
         let key = |k: &str| format!("model.contacts[{i}].{k}");
@@ -197,6 +197,13 @@ fn io_reason(e: JpError) -> String {
 /// The key and why (the file's own error, with its line, inside the reason).
 pub fn check_files(study: &Study) -> std::result::Result<FileReport, Bad> {
     let mut report = FileReport::default();
+    if let ModelSpec::MatrixMarket { damping, .. } | ModelSpec::Calculix { damping, .. } = &study.model {
+        if let Some(path) = &damping.matrix {
+            let key = "model.damping.matrix";
+            let h = read_matrix_market_header(path, true).map_err(|e| (key.to_string(), io_reason(e)))?;
+            report.files.push(format!("{key} = {}: {} x {}, {} entries, {:.1} MB (header read)", path.display(), h.rows, h.cols, h.entries, h.file_bytes as f64 / 1e6));
+        }
+    }
     let nodes = match &study.model {
         ModelSpec::Blade { .. } => return Ok(report),
         ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } => {

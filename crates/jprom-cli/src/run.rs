@@ -4,7 +4,7 @@
 //! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
 use super::plots::{write_plot, Legend, PlotSpec, Series};
-use super::study::{ModelSpec, Study};
+use super::study::{DampingSpec, ModelSpec, Study};
 use jprom::aft::AftPlan;
 use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
@@ -169,7 +169,7 @@ pub fn build_model(study: &Study) -> Result<Model> {
 /// The blade builder's and Craig-Bampton's errors; for an FE model, as [`build_fe_model`].
 pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
     match &study.model {
-        ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
+        ModelSpec::Blade { refinement, cb_modes, damping, contact } => {
             let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
             let step = progress.step(format!("building the built-in blade (refinement {refinement})"));
             let fe = BuiltinBlade::build(&params)?;
@@ -178,7 +178,9 @@ pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
             let cb = fe.reduce(*cb_modes)?;
             step.done();
             let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
-            cb.to_model(Damping::from_modal_ratio(*damping_ratio, centre))
+            let mut model = cb.to_model(Damping::default())?;
+            damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
+            Ok(model)
         }
         ModelSpec::MatrixMarket { .. } | ModelSpec::Calculix { .. } => build_fe_model(study, progress),
     }
@@ -215,7 +217,7 @@ pub struct FeStudyModel {
     pub fe: FeModel,
     /// The contacts, loads, outputs and fixed-interface modes of the Craig-Bampton reduction.
     pub reduction: Reduction,
-    pub damping_ratio: f64,
+    pub damping: DampingSpec,
 }
 
 /// Reads an FE study's model (Matrix Market `M`, `K` and the DoF map, or a CalculiX job) and
@@ -228,8 +230,8 @@ pub struct FeStudyModel {
 /// study whose model is not an FE model.
 pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> {
     let size = |p: &Path| std::fs::metadata(p).map(|m| format!(", {:.1} MB", m.len() as f64 / 1e6)).unwrap_or_default();
-    let (fe, nodes, damping_ratio) = match &study.model {
-        ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping_ratio, .. } => {
+    let (mut fe, nodes, damping) = match &study.model {
+        ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping, .. } => {
             let step = progress.step(format!("reading model.stiffness ({}{})", stiffness.display(), size(stiffness)));
             let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
             step.done_with(&format!(", {} x {}, {} stored entries", k.nrows(), k.ncols(), k.compute_nnz()));
@@ -249,21 +251,27 @@ pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> 
             }
             let fe = FeModel::from_dof_map(k, m, &map).map_err(|e| with_key("model.dof_map", e))?;
             let nodes = ModelNodes::of_fe_model(&fe, None, format!("the DoF map {}", dof_map.display()));
-            (fe, nodes, *damping_ratio)
+            (fe, nodes, damping.clone())
         }
-        ModelSpec::Calculix { deck, damping_ratio, .. } => {
+        ModelSpec::Calculix { deck, damping, .. } => {
             let files = CalculixFiles::of_job(deck);
             let step = progress.step(format!("reading the CalculiX job {} (.sti{}, .mas, .dof, deck)", files.inp.display(), size(&files.sti)));
             let ccx = read_model_files(&files).map_err(|e| with_key("model.deck", e))?;
             step.done_with(&format!(", {} DoFs", ccx.n()));
             let fe = FeModel::from_calculix(&ccx).map_err(|e| with_key("model.deck", e))?;
             let nodes = ModelNodes::of_fe_model(&fe, Some(ccx.node_sets.clone()), format!("the CalculiX job {}", files.inp.display())).with_mesh_nodes(ccx.coords.keys().copied());
-            (fe, nodes, *damping_ratio)
+            (fe, nodes, damping.clone())
         }
         ModelSpec::Blade { .. } => return Err(JpError::invalid("model.kind", "not an FE model")),
     };
+    if let Some(path) = &damping.matrix {
+        let step = progress.step(format!("reading model.damping.matrix ({}{})", path.display(), size(path)));
+        let c = read_symmetric_matrix_market(path).map_err(|e| with_key("model.damping.matrix", e))?;
+        fe.set_damping(c).map_err(|e| with_key("model.damping.matrix", e))?;
+        step.done();
+    }
     let reduction = placement(study, &nodes).map_err(|(key, reason)| JpError::invalid(key, reason))?;
-    Ok(FeStudyModel { fe, reduction, damping_ratio })
+    Ok(FeStudyModel { fe, reduction, damping })
 }
 
 /// Reduces a read FE study model by Craig-Bampton keeping the contact nodes (in
@@ -274,11 +282,11 @@ pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> 
 /// # Errors
 /// Craig-Bampton's and [`Model::new`]'s errors.
 pub fn reduce_fe_model(study: &Study, read: &FeStudyModel, progress: Progress) -> Result<Model> {
-    let FeStudyModel { fe, reduction: spec, damping_ratio } = read;
-    let damping_ratio = *damping_ratio;
+    let FeStudyModel { fe, reduction: spec, damping } = read;
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
     let step = progress.step(format!("Craig-Bampton: {} DoFs, {} boundary nodes, {} fixed-interface modes", fe.n_dof(), spec.contacts.len() + spec.static_forces.len() + spec.harmonic_forces.len(), spec.cb_modes));
-    let model = fe.reduce(&spec, Damping::from_modal_ratio(damping_ratio, centre))?;
+    let mut model = fe.reduce(spec, Damping::default())?;
+    damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
     step.done_with(&format!(", {} reduced DoFs", model.n_dof()));
     Ok(model)
 }

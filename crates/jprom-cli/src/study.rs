@@ -7,6 +7,15 @@
 //! refinement = 1            # blade only: 2 (2r + 1)^2 contact nodes: 1 -> 18, 5 -> 242, 15 -> 1,922 (at most 15)
 //! cb_modes = 50             # Craig-Bampton fixed-interface modes
 //! damping_ratio = 0.002     # modal damping ratio at the band centre (stiffness-proportional)
+//! # or, instead, any of the damping forms (they add up; forms not given are 0):
+//! # [model.damping]
+//! # ratio_at_centre = 0.002 # as damping_ratio
+//! # alpha = 0.0             # Rayleigh alpha M + beta K (1/s, s)
+//! # beta = 0.0
+//! # modal_ratios = [0.002, 0.003]  # per mode of the reduced model (contacts open), lowest first
+//! # modal_others = 0.002    # every mode after the list
+//! # loss_factor = 0.0       # structural damping: (1 + i eta) K on the harmonics
+//! # matrix = "C.mtx"        # FE models: the FE code's damping matrix, reduced with the model
 //!
 //! [band]
 //! hz_start = 2140.0
@@ -46,6 +55,7 @@
 //! stiffness = "K.mtx"
 //! dof_map = "nodes.json"    # io::dof_map: node ids -> coordinates and x, y, z DoFs
 //! cb_modes = 30
+//! cb_cutoff_hz = 20000.0    # optional: keep the fixed-interface modes up to this frequency (cb_modes a cap)
 //! output_nodes = [501, 502]
 //! output_components = ["y"] # default ["x", "y", "z"]; outputs are node-major
 //!
@@ -139,7 +149,7 @@ pub enum ModelSpec {
     Blade {
         refinement: usize,
         cb_modes: usize,
-        damping_ratio: f64,
+        damping: DampingSpec,
         contact: ContactSpec,
     },
     /// Matrix Market `M`, `K` and a node/DoF map ([`jprom::io::dof_map`]) placing contacts,
@@ -150,7 +160,9 @@ pub enum ModelSpec {
         stiffness: PathBuf,
         dof_map: PathBuf,
         cb_modes: usize,
-        damping_ratio: f64,
+        /// Keep the fixed-interface modes up to this frequency (Hz); `cb_modes` is then a cap.
+        cb_cutoff_hz: Option<f64>,
+        damping: DampingSpec,
         /// Node-to-ground contact sets (`[[model.contacts]]`).
         contacts: Vec<ContactSetSpec>,
         /// Output node ids; the first component of the first node is the response plotted.
@@ -165,7 +177,8 @@ pub enum ModelSpec {
     Calculix {
         deck: PathBuf,
         cb_modes: usize,
-        damping_ratio: f64,
+        cb_cutoff_hz: Option<f64>,
+        damping: DampingSpec,
         contacts: Vec<ContactSetSpec>,
         output_nodes: Nodes,
         output_components: Vec<Axis>,
@@ -190,8 +203,13 @@ pub struct RawModel {
     pub refinement: Option<usize>,
     #[serde(default = "fifty")]
     pub cb_modes: usize,
-    #[serde(default = "default_damping_ratio")]
-    pub damping_ratio: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cb_cutoff_hz: Option<f64>,
+    /// Short form of `[model.damping] ratio_at_centre`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_ratio: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -213,10 +231,17 @@ pub struct RawModel {
 impl TryFrom<RawModel> for ModelSpec {
     type Error = String;
     fn try_from(r: RawModel) -> std::result::Result<Self, String> {
+        let damping = match (r.damping_ratio, r.damping.clone()) {
+            (Some(_), Some(_)) => return Err("key 'model.damping_ratio': give it or a [model.damping] table, not both (ratio_at_centre is the same setting)".into()),
+            (Some(z), None) => DampingSpec { ratio_at_centre: Some(z), ..DampingSpec::default() },
+            (None, Some(d)) => d,
+            (None, None) => DampingSpec { ratio_at_centre: Some(default_damping_ratio()), ..DampingSpec::default() },
+        };
         let not_for = |key: &str, kind: &str| Err(format!("key 'model.{key}' does not apply to kind = \"{kind}\""));
         match r.kind {
             ModelKind::Blade => {
                 for (key, given) in [
+                    ("cb_cutoff_hz", r.cb_cutoff_hz.is_some()),
                     ("mass", r.mass.is_some()),
                     ("stiffness", r.stiffness.is_some()),
                     ("dof_map", r.dof_map.is_some()),
@@ -232,7 +257,7 @@ impl TryFrom<RawModel> for ModelSpec {
                 Ok(ModelSpec::Blade {
                     refinement: r.refinement.unwrap_or(1),
                     cb_modes: r.cb_modes,
-                    damping_ratio: r.damping_ratio,
+                    damping: damping.clone(),
                     contact: r.contact.unwrap_or_default(),
                 })
             }
@@ -252,7 +277,8 @@ impl TryFrom<RawModel> for ModelSpec {
                     stiffness: need("stiffness", r.stiffness)?,
                     dof_map: need("dof_map", r.dof_map)?,
                     cb_modes: r.cb_modes,
-                    damping_ratio: r.damping_ratio,
+                    cb_cutoff_hz: r.cb_cutoff_hz,
+                    damping: damping.clone(),
                     contacts: r.contacts,
                     output_nodes: r.output_nodes,
                     output_components: r.output_components.unwrap_or_else(xyz),
@@ -270,7 +296,8 @@ impl TryFrom<RawModel> for ModelSpec {
                 Ok(ModelSpec::Calculix {
                     deck: r.deck.ok_or_else(|| "key 'model.deck' is required for kind = \"calculix\"".to_string())?,
                     cb_modes: r.cb_modes,
-                    damping_ratio: r.damping_ratio,
+                    cb_cutoff_hz: r.cb_cutoff_hz,
+                    damping: damping.clone(),
                     contacts: r.contacts,
                     output_nodes: r.output_nodes,
                     output_components: r.output_components.unwrap_or_else(xyz),
@@ -283,11 +310,13 @@ impl TryFrom<RawModel> for ModelSpec {
 impl From<ModelSpec> for RawModel {
     fn from(m: ModelSpec) -> RawModel {
         match m {
-            ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => RawModel {
+            ModelSpec::Blade { refinement, cb_modes, damping, contact } => RawModel {
                 kind: ModelKind::Blade,
                 refinement: Some(refinement),
                 cb_modes,
-                damping_ratio,
+                cb_cutoff_hz: None,
+                damping_ratio: damping.short_form(),
+                damping: if damping.short_form().is_some() { None } else { Some(damping) },
                 contact: Some(contact),
                 mass: None,
                 stiffness: None,
@@ -297,11 +326,13 @@ impl From<ModelSpec> for RawModel {
                 output_nodes: Nodes::default(),
                 output_components: None,
             },
-            ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, damping_ratio, contacts, output_nodes, output_components } => RawModel {
+            ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components } => RawModel {
                 kind: ModelKind::MatrixMarket,
                 refinement: None,
                 cb_modes,
-                damping_ratio,
+                cb_cutoff_hz,
+                damping_ratio: damping.short_form(),
+                damping: if damping.short_form().is_some() { None } else { Some(damping) },
                 contact: None,
                 mass: Some(mass),
                 stiffness: Some(stiffness),
@@ -311,11 +342,13 @@ impl From<ModelSpec> for RawModel {
                 output_nodes,
                 output_components: Some(output_components),
             },
-            ModelSpec::Calculix { deck, cb_modes, damping_ratio, contacts, output_nodes, output_components } => RawModel {
+            ModelSpec::Calculix { deck, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components } => RawModel {
                 kind: ModelKind::Calculix,
                 refinement: None,
                 cb_modes,
-                damping_ratio,
+                cb_cutoff_hz,
+                damping_ratio: damping.short_form(),
+                damping: if damping.short_form().is_some() { None } else { Some(damping) },
                 contact: None,
                 mass: None,
                 stiffness: None,
@@ -721,6 +754,87 @@ impl Default for OutputSpec {
 fn fifty() -> usize {
     50
 }
+/// `[model.damping]`: the damping forms, which add up (docs/formulation.md §1). The short form
+/// `model.damping_ratio = z` is `ratio_at_centre = z` alone; with neither, `ratio_at_centre =
+/// 0.002`. In a table, forms not given are zero.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Stiffness-proportional damping with this modal ratio at the band centre.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio_at_centre: Option<f64>,
+    /// Rayleigh `alpha` (1/s) of `alpha M + beta K`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub alpha: f64,
+    /// Rayleigh `beta` (s).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub beta: f64,
+    /// Modal damping ratios of the reduced model's lowest modes (contacts open), lowest first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub modal_ratios: Vec<f64>,
+    /// Modal damping ratio of every mode after `modal_ratios`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub modal_others: f64,
+    /// Structural loss factor `eta`: the harmonics see `(1 + i eta) K`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub loss_factor: f64,
+    /// The FE code's viscous damping matrix `C` (Matrix Market, symmetric, the size of `K`),
+    /// reduced with the model; FE models only. Relative to the study file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<PathBuf>,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl DampingSpec {
+    /// The short form's ratio, when this is nothing but `ratio_at_centre`.
+    pub fn short_form(&self) -> Option<f64> {
+        let rest = DampingSpec { ratio_at_centre: None, ..self.clone() };
+        if rest == DampingSpec::default() {
+            self.ratio_at_centre
+        } else {
+            None
+        }
+    }
+
+    /// Values finite and `>= 0`, naming the key.
+    fn check(&self) -> std::result::Result<(), (String, String)> {
+        let mut values: Vec<(String, f64)> = vec![("alpha".into(), self.alpha), ("beta".into(), self.beta), ("modal_others".into(), self.modal_others), ("loss_factor".into(), self.loss_factor)];
+        if let Some(z) = self.ratio_at_centre {
+            values.push(("ratio_at_centre".into(), z));
+        }
+        values.extend(self.modal_ratios.iter().enumerate().map(|(i, &z)| (format!("modal_ratios[{i}]"), z)));
+        for (k, v) in values {
+            if !(v.is_finite() && v >= 0.0) {
+                let key = if k == "ratio_at_centre" && self.short_form().is_some() { "model.damping_ratio".to_string() } else { format!("model.damping.{k}") };
+                return Err((key, format!("must be finite and >= 0, got {v}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies the forms that act on the reduced model: Rayleigh (with the ratio at
+    /// `centre_rad_s`), modal ratios (added to an FE damping matrix already there), loss factor.
+    ///
+    /// # Errors
+    /// [`jprom::model::Model::set_modal_damping`]'s and validation errors.
+    pub fn apply(&self, model: &mut jprom::model::Model, centre_rad_s: f64) -> Result<()> {
+        let from_ratio = self.ratio_at_centre.map(|z| jprom::model::Damping::from_modal_ratio(z, centre_rad_s)).unwrap_or_default();
+        model.damping = jprom::model::Damping { mass_coeff: self.alpha + from_ratio.mass_coeff, stiffness_coeff: self.beta + from_ratio.stiffness_coeff };
+        if !self.modal_ratios.is_empty() || self.modal_others > 0.0 {
+            let fe_part = model.added_damping.take();
+            model.set_modal_damping(&self.modal_ratios, self.modal_others)?;
+            if let (Some(c), Some(fe)) = (model.added_damping.as_mut(), fe_part) {
+                *c += fe;
+            }
+        }
+        model.loss_factor = self.loss_factor;
+        model.validate()
+    }
+}
+
 fn default_damping_ratio() -> f64 {
     0.002
 }
@@ -752,12 +866,20 @@ impl Study {
             }
         };
         match &mut self.model {
-            ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } => {
+            ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping, .. } => {
                 fix(mass);
                 fix(stiffness);
                 fix(dof_map);
+                if let Some(c) = damping.matrix.as_mut() {
+                    fix(c);
+                }
             }
-            ModelSpec::Calculix { deck, .. } => fix(deck),
+            ModelSpec::Calculix { deck, damping, .. } => {
+                fix(deck);
+                if let Some(c) = damping.matrix.as_mut() {
+                    fix(c);
+                }
+            }
             ModelSpec::Blade { .. } => {}
         }
         fix(&mut self.output.dir);
@@ -773,8 +895,11 @@ impl Study {
             // an error of a whole table that names a key inside it (a key of the wrong model
             // kind): the line of that key
             let named_line = message.strip_prefix("key '").and_then(|m| m.split('\'').next()).and_then(|k| toml_line(text, &key_path(k)));
+            // an unknown key: the line of that key, not of its table
+            let unknown_line = if message.starts_with("unknown field") { toml_line(text, &key_path(&key)) } else { None };
             match (inner.span(), named_line) {
                 (_, Some(line)) if message.starts_with("key '") => JpError::Parse { path: "<study>".into(), line, reason: message.to_string() },
+                _ if unknown_line.is_some() => JpError::Parse { path: "<study>".into(), line: unknown_line.unwrap_or(0), reason: format!("key '{key}': {message}") },
                 (Some(span), _) => parse_error(text, Some(span.start), &format!("key '{key}': {message}")),
                 // an error of a whole table (a key of the wrong model kind, a required key
                 // missing): the line of the key it names, else of the table
@@ -812,8 +937,8 @@ impl Study {
     fn check(&self) -> std::result::Result<(), (String, String)> {
         let bad = |key: &str, reason: String| Err((key.to_string(), reason));
         let over = |key: &str, value: usize, limit: usize, why: &str| Err((key.to_string(), format!("{value} is above jprom's limit of {limit} ({why})")));
-        let (cb_modes, damping_ratio, contact) = match &self.model {
-            ModelSpec::Blade { refinement, cb_modes, damping_ratio, contact } => {
+        let (cb_modes, damping, contact) = match &self.model {
+            ModelSpec::Blade { refinement, cb_modes, damping, contact } => {
                 if *refinement > MAX_BLADE_REFINEMENT {
                     return over("model.refinement", *refinement, MAX_BLADE_REFINEMENT, "15 gives 1,922 contact nodes and 140,658 FE DoFs");
                 }
@@ -831,10 +956,13 @@ impl Study {
                     };
                     return bad(&key, reason);
                 }
-                (*cb_modes, *damping_ratio, Some(contact))
+                if damping.matrix.is_some() {
+                    return bad("model.damping.matrix", "a damping matrix file is for FE models, kind = \"matrix_market\" or \"calculix\"".into());
+                }
+                (*cb_modes, damping, Some(contact))
             }
-            ModelSpec::MatrixMarket { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. }
-            | ModelSpec::Calculix { cb_modes, damping_ratio, contacts, output_nodes, output_components, .. } => {
+            ModelSpec::MatrixMarket { cb_modes, damping, contacts, output_nodes, output_components, .. }
+            | ModelSpec::Calculix { cb_modes, damping, contacts, output_nodes, output_components, .. } => {
                 let kind = if matches!(self.model, ModelSpec::Calculix { .. }) { "calculix" } else { "matrix_market" };
                 if contacts.is_empty() {
                     return bad("model.contacts", format!("a {kind} model needs at least one [[model.contacts]] set"));
@@ -916,7 +1044,7 @@ impl Study {
                         }
                     }
                 }
-                (*cb_modes, *damping_ratio, None)
+                (*cb_modes, damping, None)
             }
         };
         if matches!(self.model, ModelSpec::Blade { .. }) {
@@ -933,9 +1061,12 @@ impl Study {
         if cb_modes > MAX_CB_MODES {
             return over("model.cb_modes", cb_modes, MAX_CB_MODES, "the reduced model is dense");
         }
-        if !(damping_ratio.is_finite() && damping_ratio >= 0.0) {
-            return bad("model.damping_ratio", format!("must be finite and >= 0, got {damping_ratio}"));
+        if let ModelSpec::MatrixMarket { cb_cutoff_hz: Some(f), .. } | ModelSpec::Calculix { cb_cutoff_hz: Some(f), .. } = &self.model {
+            if !(f.is_finite() && *f > 0.0) {
+                return bad("model.cb_cutoff_hz", format!("must be finite and > 0 Hz, got {f}"));
+            }
         }
+        damping.check()?;
         for (k, v) in contact.iter().flat_map(|c| [("mu", c.mu), ("kt1", c.kt1), ("kt2", c.kt2), ("kn", c.kn)]) {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(&format!("model.contact.{k}"), format!("must be finite and >= 0, got {v}"));
