@@ -235,6 +235,26 @@ int main(int argc, char **argv) {
     expect(jprom_basis_save_json(basis, "/dev/full"), JPROM_IO, "basis_save_json to /dev/full", "No space left");
     expect(jprom_model_save_json(model, dir), JPROM_IO, "model_save_json onto a directory", NULL);
 
+    /* damping forms and modes (issue 13) */
+    {
+        double c_bad[36] = {0}, ratios[2] = {0.01, -0.5}, hz[6], force[6];
+        size_t count = 0;
+        c_bad[1] = 1.0; /* c(1, 0) without c(0, 1): not symmetric */
+        expect(jprom_model_set_damping_matrix(model, c_bad, 6), JPROM_INVALID_VALUE, "an asymmetric damping matrix", "symmetric");
+        expect(jprom_model_set_damping_matrix(model, c_bad, 5), JPROM_BAD_SIZE, "a damping matrix of the wrong size", "6 DoFs");
+        expect(jprom_model_set_damping_matrix(model, NULL, 6), JPROM_NULL_ARGUMENT, "a NULL damping matrix with n = 6", "c");
+        expect(jprom_model_set_modal_damping_ratios(model, ratios, 2, 0.0), JPROM_INVALID_VALUE, "a negative modal ratio", "ratio 1");
+        expect(jprom_model_set_modal_damping_ratios(model, ratios, 1, 0.0 / 0.0), JPROM_INVALID_VALUE, "a NaN ratio for the other modes", "other modes");
+        expect(jprom_model_set_loss_factor(model, -0.01), JPROM_INVALID_VALUE, "a negative loss factor", "loss factor");
+        expect(jprom_model_modes(model, 7, hz, NULL, 6, &count), JPROM_INVALID_VALUE, "modes with stuck = 7", "stuck must be 0 or 1");
+        expect(jprom_model_modes(model, 1, NULL, NULL, 6, &count), JPROM_NULL_ARGUMENT, "modes into NULL", "frequency_hz");
+        expect(jprom_model_modes(model, 1, hz, force, 6, &count), JPROM_OK, "the stuck modes", NULL);
+        check(count == 6 && hz[0] > 0.0 && hz[5] >= hz[0] && force[0] >= 0.0, "six stuck modes, ascending");
+        expect(jprom_fe_model_modes(NULL, 3, hz), JPROM_NULL_ARGUMENT, "FE modes of NULL", "fe");
+        expect(jprom_fe_fix_dof(NULL, 1, 0), JPROM_NULL_ARGUMENT, "fix a DoF of NULL", "fe");
+        expect(jprom_fe_reduce_cutoff(NULL, 1000.0, 10, &m2), JPROM_NULL_ARGUMENT, "reduce NULL with a cut-off", "fe");
+    }
+
     jprom_solution_free(sol);
     jprom_basis_free(basis);
     jprom_sweep_free(sweep);
