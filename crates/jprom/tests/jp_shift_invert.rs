@@ -1,5 +1,6 @@
 //! The shift-invert Arnoldi path of the JP eigenproblem (31) against the dense solve: same
-//! kept eigenvalues (1e-8 relative), same per-harmonic spans, same conditioned basis sizes, on
+//! kept eigenvalues (1e-8 relative), same per-harmonic spans, same conditioned basis sizes (one
+//! column apart at most, where a singular value lies near the cut), on
 //! the spring-mass chain and the built-in blade, stuck and slipping, H = 1 and H = 3; and the
 //! structured (Woodbury) solve of `K_JC - σ M_JC` against a dense one.
 
@@ -166,10 +167,27 @@ fn check_case(what: &str, model: &Model, band: (f64, f64), harmonics: usize, fac
     for gamma in [1e3, 1e8] {
         let bd = JpBasis::from_jacobian(&coords, &k_hat, &BasisOptions { modes: opts(band, extra, EigenSolver::Dense, true), gamma }).unwrap();
         let bs = JpBasis::from_jacobian(&coords, &k_hat, &BasisOptions { modes: opts(band, extra, EigenSolver::ShiftInvert, true), gamma }).unwrap();
-        assert_eq!(bd.sizes, bs.sizes, "{what}: basis sizes at gamma {gamma:e}");
-        // Only the sizes: the raw columns of a complex pair are the real and imaginary parts of
-        // an eigenvector of arbitrary phase, so the SVD conditioning of two solvers' (equal)
-        // spans may cut different subspaces of the same size.
+        // Equal sizes, or one column apart where a singular value of either raw stack lies
+        // within a factor 1.5 of the cut `s_max / gamma`: the raw columns of a complex pair are
+        // the real and imaginary parts of an eigenvector of arbitrary phase, so the two solvers'
+        // stacks (of equal spans, checked above to 1e-6) have different singular values, and
+        // one near the cut may fall on either side (the chain at H = 3: 1.15 x the cut in the
+        // dense stack, 0.82 x in the shift-invert one).
+        for h in 0..bd.sizes.len() {
+            if bd.sizes[h] != bs.sizes[h] {
+                let on_cut = |sv: &[f64]| {
+                    let cut = sv.iter().copied().fold(0.0f64, f64::max) / gamma;
+                    sv.iter().any(|&x| x >= cut / 1.5 && x <= 1.5 * cut)
+                };
+                assert!(
+                    bd.sizes[h].abs_diff(bs.sizes[h]) == 1 && (on_cut(&bd.singular_values[h]) || on_cut(&bs.singular_values[h])),
+                    "{what}: basis sizes at gamma {gamma:e}: {:?} vs {:?}, harmonic {h} has no singular value near the cut",
+                    bd.sizes,
+                    bs.sizes
+                );
+                println!("{what}: harmonic {h} at gamma {gamma:e}: {} vs {} columns, a singular value near the cut", bd.sizes[h], bs.sizes[h]);
+            }
+        }
     }
 }
 
