@@ -5,7 +5,11 @@
 //! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
 //! jprom check STUDY                validate a study file and every file and node it names
 //! jprom modes STUDY [--count N]    natural frequencies: FE model, CB model free and stuck
+//! jprom --version                  jprom <version>
 //! ```
+//!
+//! `jprom COMMAND --help` (or `-h`) prints the command's usage and options (exit 0); an option
+//! the command does not take, a missing value or an extra argument is a usage error (exit 2).
 //!
 //! `modes` lists the lowest `N` (default 10) natural frequencies of an FE model on its supports
 //! (sparse shift-invert Lanczos), the modes of the reduced (Craig-Bampton) model with the
@@ -33,7 +37,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  jprom demo  [--out DIR]        run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
+  jprom demo  [--out DIR] [--keep-partial] [--quiet]
+                                 run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
   jprom run   STUDY [--out DIR] [--keep-partial] [--quiet]
                                  run a study file (.toml or .json)
   jprom check STUDY              validate a study file and the files and nodes it names
@@ -43,11 +48,146 @@ const USAGE: &str = "usage:
                                  its Craig-Bampton model with contacts open and stuck (modal
                                  forces, participation; * a stuck mode in the band), the stuck
                                  mode for the band and a warning if the band holds none
-  --quiet                        no progress on standard error
-  jprom --help
+  jprom --help | -h              this text (jprom COMMAND --help: the command's options)
+  jprom --version | -V           the version
 exit status: 0 done (every output written), 1 the run failed (model, solver or an output
 that could not be written), 2 bad command line or invalid study, 3 a sweep did not cover its
 band (results kept; --keep-partial makes it 0)";
+
+/// A subcommand's command line: its usage text, whether it takes a study file, and its options
+/// (name, takes a value, help).
+struct Command {
+    name: &'static str,
+    synopsis: &'static str,
+    about: &'static str,
+    takes_study: bool,
+    options: &'static [(&'static str, bool, &'static str)],
+}
+
+const QUIET: (&str, bool, &str) = ("--quiet", false, "no progress on standard error (bars on a terminal, plain lines otherwise)");
+const KEEP_PARTIAL: (&str, bool, &str) = ("--keep-partial", false, "exit 0 when a sweep did not cover its band (exit 3 otherwise; results are kept either way)");
+const HELP: (&str, bool, &str) = ("--help, -h", false, "this text");
+
+const COMMANDS: [Command; 4] = [
+    Command {
+        name: "demo",
+        synopsis: "jprom demo [--out DIR] [--keep-partial] [--quiet]",
+        about: "Runs the built-in shrouded-blade demo (crates/jprom-cli/demo_study.toml): full order, FR and\nNLR sweeps at each level, error predictor, summary table, CSV, JSON and SVG plots.",
+        takes_study: false,
+        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), KEEP_PARTIAL, QUIET, HELP],
+    },
+    Command {
+        name: "run",
+        synopsis: "jprom run STUDY [--out DIR] [--keep-partial] [--quiet]",
+        about: "Runs a study file (TOML or JSON): model, Craig-Bampton, sweeps, bases, CSV, JSON and SVG.",
+        takes_study: true,
+        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), KEEP_PARTIAL, QUIET, HELP],
+    },
+    Command {
+        name: "check",
+        synopsis: "jprom check STUDY [--quiet]",
+        about: "Validates a study file and every file and node it names (without reading the matrices)\nand prints it with the defaults applied.",
+        takes_study: true,
+        options: &[("--quiet", false, "accepted for symmetry (check shows no progress)"), HELP],
+    },
+    Command {
+        name: "modes",
+        synopsis: "jprom modes STUDY [--count N] [--quiet]",
+        about: "Natural frequencies of the FE model (lowest N), of its Craig-Bampton model with the contacts\nopen and stuck (modal forces, participation; * a stuck mode in the band), the stuck mode for\nthe band and a warning if the band holds none.",
+        takes_study: true,
+        options: &[("--count", true, "N: how many FE natural frequencies (default 10)"), QUIET, HELP],
+    },
+];
+
+impl Command {
+    fn usage(&self) -> String {
+        let mut s = format!("usage: {}\n\n{}\n\noptions:\n", self.synopsis, self.about);
+        for (name, value, help) in self.options {
+            // a value's name starts its help: "DIR: where results go"
+            let (name, help) = match help.split_once(": ") {
+                Some((meta, rest)) if *value => (format!("{name} {meta}"), rest),
+                _ => (name.to_string(), *help),
+            };
+            s.push_str(&format!("  {name:<16} {help}\n"));
+        }
+        s.push_str("\nexit status: 0 done, 1 the run failed, 2 bad command line or invalid study");
+        if self.options.iter().any(|o| o.0 == "--keep-partial") {
+            s.push_str(", 3 a sweep did not cover its band");
+        }
+        s.push('\n');
+        s
+    }
+}
+
+/// A parsed subcommand line: the study path (if the command takes one), the options given.
+struct Parsed {
+    study: Option<String>,
+    values: Vec<(&'static str, String)>,
+    flags: Vec<&'static str>,
+}
+
+impl Parsed {
+    fn value(&self, name: &str) -> Option<&str> {
+        self.values.iter().rev().find(|v| v.0 == name).map(|v| v.1.as_str())
+    }
+    fn flag(&self, name: &str) -> bool {
+        self.flags.contains(&name)
+    }
+}
+
+/// What the command line asks for.
+enum Request {
+    Help(String),
+    Run(&'static Command, Parsed),
+}
+
+/// Parses `args` (after the program name): `--help`/`-h` anywhere after a command gives that
+/// command's usage; an unknown option, a missing value or study, or an extra argument is a
+/// usage error (exit 2).
+fn parse(args: &[String]) -> Result<Request, Failure> {
+    let cmd_name = args.first().map(String::as_str).unwrap_or("--help");
+    if matches!(cmd_name, "--help" | "-h" | "help") {
+        return Ok(Request::Help(format!("{USAGE}\n")));
+    }
+    if matches!(cmd_name, "--version" | "-V") {
+        return Ok(Request::Help(format!("jprom {}\n", env!("CARGO_PKG_VERSION"))));
+    }
+    let cmd = COMMANDS.iter().find(|c| c.name == cmd_name).ok_or_else(|| Failure::Usage(format!("unknown command '{cmd_name}'\n{USAGE}")))?;
+    let bad = |what: String| Failure::Usage(format!("{what}\n{}", cmd.usage()));
+    if args[1..].iter().any(|a| a == "--help" || a == "-h") {
+        return Ok(Request::Help(cmd.usage()));
+    }
+    let mut parsed = Parsed { study: None, values: Vec::new(), flags: Vec::new() };
+    let mut rest = args[1..].iter();
+    while let Some(a) = rest.next() {
+        if a.starts_with('-') && a.len() > 1 {
+            let (name, inline) = match a.split_once('=') {
+                Some((n, v)) => (n, Some(v.to_string())),
+                None => (a.as_str(), None),
+            };
+            let opt = cmd.options.iter().find(|o| o.0 == name).ok_or_else(|| bad(format!("{} does not take the option '{name}'", cmd.name)))?;
+            if opt.1 {
+                let v = match inline {
+                    Some(v) => v,
+                    None => rest.next().cloned().ok_or_else(|| bad(format!("{name} needs a value")))?,
+                };
+                parsed.values.push((opt.0, v));
+            } else if inline.is_some() {
+                return Err(bad(format!("{name} takes no value")));
+            } else {
+                parsed.flags.push(opt.0);
+            }
+        } else if cmd.takes_study && parsed.study.is_none() {
+            parsed.study = Some(a.clone());
+        } else {
+            return Err(bad(format!("unexpected argument '{a}'")));
+        }
+    }
+    if cmd.takes_study && parsed.study.is_none() {
+        return Err(bad(format!("{} needs a study file", cmd.name)));
+    }
+    Ok(Request::Run(cmd, parsed))
+}
 
 /// The demo's study (crates/jprom-cli/demo_study.toml).
 pub const DEMO_STUDY: &str = include_str!("../demo_study.toml");
@@ -62,18 +202,11 @@ enum Failure {
     Incomplete(Vec<String>),
 }
 
-fn out_dir(args: &[String], default: &str) -> Result<PathBuf, Failure> {
-    match args.iter().position(|a| a == "--out") {
-        Some(i) => args.get(i + 1).map(PathBuf::from).ok_or_else(|| Failure::Usage("--out needs a directory".to_string())),
-        None => Ok(PathBuf::from(default)),
-    }
-}
-
 /// `--count N` (default 10), a positive integer.
-fn count_arg(args: &[String]) -> Result<usize, Failure> {
-    match args.iter().position(|a| a == "--count") {
-        Some(i) => match args.get(i + 1).map(|v| v.parse::<usize>()) {
-            Some(Ok(n)) if n > 0 => Ok(n),
+fn count_arg(args: &Parsed) -> Result<usize, Failure> {
+    match args.value("--count") {
+        Some(v) => match v.parse::<usize>() {
+            Ok(n) if n > 0 => Ok(n),
             _ => Err(Failure::Usage("--count needs a positive integer".to_string())),
         },
         None => Ok(10),
@@ -101,38 +234,34 @@ fn say(text: &str) {
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let keep_partial = args.iter().any(|a| a == "--keep-partial");
-    let progress = Progress::for_stderr(args.iter().any(|a| a == "--quiet"));
-    let result = match args.first().map(String::as_str) {
-        None | Some("--help") | Some("-h") | Some("help") => print_out(&format!("{USAGE}\n")),
-        Some("demo") => out_dir(&args, "jprom-demo").and_then(|dir| {
-            let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
-            run(&study, &dir, keep_partial, progress)
-        }),
-        Some("run") => match args.get(1) {
-            Some(path) if !path.starts_with("--") => study_from(path).and_then(|study| {
-                // every file and node the study names, checked before the long reads (errors with their line)
-                // (a file that is missing or malformed fails the run, status 1, as the full read would)
-                check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Run(e.to_string()))?;
-                out_dir(&args, &study.output.dir.display().to_string()).and_then(|dir| run(&study, &dir, keep_partial, progress))
-            }),
-            _ => Err(Failure::Usage(format!("run needs a study file\n{USAGE}"))),
-        },
-        Some("check") => match args.get(1) {
-            Some(path) if !path.starts_with("--") => check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string())).and_then(|text| print_out(&text)),
-            _ => Err(Failure::Usage(format!("check needs a study file\n{USAGE}"))),
-        },
-        Some("modes") => match args.get(1) {
-            Some(path) if !path.starts_with("--") => count_arg(&args).and_then(|count| {
-                let study = study_from(path)?;
-                check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))?;
-                let report = modes_report(&study, count, progress).map_err(|e| Failure::Run(e.to_string()))?;
-                print_out(&modes_table(&report, count))
-            }),
-            _ => Err(Failure::Usage(format!("modes needs a study file\n{USAGE}"))),
-        },
-        Some(other) => Err(Failure::Usage(format!("unknown command '{other}'\n{USAGE}"))),
-    };
+    let result = parse(&args).and_then(|request| match request {
+        Request::Help(text) => print_out(&text),
+        Request::Run(cmd, p) => {
+            let progress = Progress::for_stderr(p.flag("--quiet"));
+            let keep_partial = p.flag("--keep-partial");
+            let out = p.value("--out").map(PathBuf::from);
+            match (cmd.name, p.study.as_deref()) {
+                ("demo", _) => {
+                    let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
+                    run(&study, &out.unwrap_or_else(|| PathBuf::from("jprom-demo")), keep_partial, progress)
+                }
+                ("run", Some(path)) => study_from(path).and_then(|study| {
+                    // every file and node the study names, checked before the long reads (errors with their line)
+                    // (a file that is missing or malformed fails the run, status 1, as the full read would)
+                    check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Run(e.to_string()))?;
+                    run(&study, &out.unwrap_or_else(|| study.output.dir.clone()), keep_partial, progress)
+                }),
+                ("check", Some(path)) => check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string())).and_then(|text| print_out(&text)),
+                ("modes", Some(path)) => count_arg(&p).and_then(|count| {
+                    let study = study_from(path)?;
+                    check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))?;
+                    let report = modes_report(&study, count, progress).map_err(|e| Failure::Run(e.to_string()))?;
+                    print_out(&modes_table(&report, count))
+                }),
+                (name, _) => Err(Failure::Usage(format!("{name} needs a study file\n{USAGE}"))),
+            }
+        }
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Usage(message)) => {

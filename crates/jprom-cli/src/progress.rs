@@ -1,11 +1,16 @@
 //! Progress of a run on standard error: the import of the model, Craig-Bampton, basis building
-//! and the sweeps. On a terminal, indicatif bars (a spinner for a step of unknown length);
-//! otherwise (a log file, a pipe, CI) one plain line when a step starts and one when it ends,
-//! with its elapsed seconds; nothing with `--quiet`. A closed standard error is ignored.
+//! and the sweeps. On a terminal, indicatif spinners (a sweep's length is not known in advance:
+//! it counts its points and shows the last frequency); otherwise (a log file, a pipe, CI) one
+//! plain line when a step starts and one when it ends, with its elapsed seconds, and during a
+//! sweep a line such as `jprom: [FO alpha_ST x 1e-1] 40 points, omega 2186.4 Hz, 3.1 s` at most
+//! every [`LINE_INTERVAL_S`] seconds; nothing with `--quiet`. A closed standard error is ignored.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::Write;
 use std::time::Instant;
+
+/// Least time between two plain progress lines of one sweep ([`Points::point`]).
+pub const LINE_INTERVAL_S: f64 = 5.0;
 
 /// How progress is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,6 +54,27 @@ impl Progress {
             Progress::Quiet => None,
         };
         Step { what, start: Instant::now(), mode: self, spinner }
+    }
+
+    /// A sweep of unknown length: counts its points ([`Points::point`]); [`Points::done`] ends it.
+    pub fn points(self, what: impl Into<String>) -> Points {
+        let what = what.into();
+        let spinner = match self {
+            Progress::Bars => {
+                let s = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+                s.set_style(ProgressStyle::with_template("{spinner} {prefix} {pos} points{msg} {elapsed}").unwrap());
+                s.set_prefix(what.clone());
+                s.enable_steady_tick(std::time::Duration::from_millis(200));
+                Some(s)
+            }
+            Progress::Lines => {
+                line(&format!("{what} ..."));
+                None
+            }
+            Progress::Quiet => None,
+        };
+        let now = Instant::now();
+        Points { what, start: now, last_line: now, last_point: None, count: 0, mode: self, spinner }
     }
 
     /// A bar of `len` steps (hidden unless [`Progress::Bars`]); as [`Progress::step`] otherwise.
@@ -114,5 +140,58 @@ impl Bar {
     pub fn done(self) {
         self.bar.finish_and_clear();
         self.step.done();
+    }
+}
+
+/// A sweep in progress ([`Progress::points`]).
+pub struct Points {
+    what: String,
+    start: Instant,
+    last_line: Instant,
+    last_point: Option<Instant>,
+    count: u64,
+    mode: Progress,
+    spinner: Option<ProgressBar>,
+}
+
+impl Points {
+    /// One more converged point, at `hz`.
+    pub fn point(&mut self, hz: f64) {
+        self.count += 1;
+        let now = Instant::now();
+        self.last_point = Some(now);
+        if let Some(s) = &self.spinner {
+            s.set_position(self.count);
+            s.set_message(format!(", omega {hz:.1} Hz,"));
+        }
+        if self.mode == Progress::Lines && now.duration_since(self.last_line).as_secs_f64() >= LINE_INTERVAL_S {
+            self.last_line = now;
+            line(&format!("[{}] {} points, omega {hz:.1} Hz, {:.1} s", self.what, self.count, self.start.elapsed().as_secs_f64()));
+        }
+    }
+
+    /// Points so far.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Ends the sweep: `jprom: <what>: done in 3.7 s, 146 points<note>` (the time up to its
+    /// last point), the spinner cleared.
+    pub fn done(mut self, note: &str) {
+        if let Some(s) = self.spinner.take() {
+            s.finish_and_clear();
+        }
+        if self.mode == Progress::Lines {
+            let end = self.last_point.unwrap_or_else(Instant::now);
+            line(&format!("{}: done in {:.1} s, {} points{note}", self.what, end.duration_since(self.start).as_secs_f64(), self.count));
+        }
+    }
+}
+
+impl Drop for Points {
+    fn drop(&mut self) {
+        if let Some(s) = self.spinner.take() {
+            s.finish_and_clear();
+        }
     }
 }

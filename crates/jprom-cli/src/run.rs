@@ -12,6 +12,7 @@ use jprom::io::calculix::{read_model_files, CalculixFiles};
 use jprom::io::matrix_market::read_symmetric_matrix_market;
 use super::check::{placement, ModelNodes};
 use super::progress::Progress;
+use super::progress as jprom_progress;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::error::{JpError, Result};
@@ -21,7 +22,7 @@ use jprom::level::stuck_limit;
 use jprom::jp::prediction::PredictionOptions;
 use jprom::jp::predict_basis;
 use jprom::model::{ContactCoordinates, Damping, Model};
-use jprom::rom::{adaptive_sweep, reduced_model, AdaptiveOptions, RomKind};
+use jprom::rom::{adaptive_sweep_with_progress, reduced_model, AdaptiveOptions, RomKind};
 use serde::Serialize;
 use std::io::Write;
 use std::ops::ControlFlow;
@@ -40,6 +41,9 @@ pub struct SolverRow {
     pub points: usize,
     /// Seconds for the sweep (for ROMs: basis prediction, reduced sweeps and corrections).
     pub sweep_seconds: f64,
+    /// The part of `sweep_seconds` spent on the basis (ROMs; 0 for the full order): its
+    /// prediction, the ROM's construction with its first reduced point, and for each
+    /// correction the error checks that asked for it, its prediction and the new ROM.
     pub basis_seconds: f64,
     /// Basis corrections made by the self-correcting sweep (ROMs).
     pub corrections: usize,
@@ -576,13 +580,13 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         let mut fo_peak: Option<PointSolution> = None;
         let mut fo_warning: Option<String> = None;
         if study.solvers.full_order {
-            let bar = progress.bar(study.band.points as u64, &format!("FO sweep, level {level:e}"));
+            let mut bar = progress.points(format!("FO sweep, alpha_ST x {level:e}"));
             let t = Instant::now();
             let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
-                bar.set_position(((p.omega - band.0) / (band.1 - band.0) * study.band.points as f64).clamp(0.0, study.band.points as f64) as u64);
+                bar.point(p.omega / TWO_PI);
                 ControlFlow::Continue(())
             });
-            bar.done();
+            bar.done(&res.as_ref().map(|r| format!(", {}", r.end.name())).unwrap_or_else(|_| ", failed".into()));
             let res = match res {
                 Ok(r) => r,
                 Err(e) => {
@@ -641,11 +645,40 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         for &(name, kind) in &kinds {
             // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
             // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
-            let bar = progress.step(format!("{name}: basis prediction + self-correcting sweep, level {level:e}"));
             let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
             let t = Instant::now();
-            let adaptive = adaptive_sweep(&model, &popts, &sopts, &hopts, &aopts);
-            bar.done();
+            // the basis time: from the start to the first reduced point (prediction, the ROM's
+            // construction and its first solve), and between the last point of a pass and the
+            // first of the next (the error checks that judged the pass, the correction's
+            // prediction, the new ROM); the reduced continuation steps are the rest
+            let mut basis_step = Some(progress.step(format!("{name} basis prediction, alpha_ST x {level:e}")));
+            let mut points: Option<jprom_progress::Points> = None;
+            let mut pass_now = usize::MAX;
+            let mut since = Instant::now();
+            let mut basis_seconds = 0.0;
+            let adaptive = adaptive_sweep_with_progress(&model, &popts, &sopts, &hopts, &aopts, &mut |pass, p| {
+                if pass != pass_now {
+                    let gap = since.elapsed().as_secs_f64();
+                    basis_seconds += gap;
+                    if let Some(step) = basis_step.take() {
+                        step.done();
+                    }
+                    if let Some(prev) = points.take() {
+                        prev.done(&format!(", then error checks and basis correction {pass} in {gap:.1} s"));
+                    }
+                    points = Some(progress.points(format!("{name} sweep, alpha_ST x {level:e}, basis {pass}")));
+                    pass_now = pass;
+                }
+                if let Some(pts) = points.as_mut() {
+                    pts.point(p.omega / TWO_PI);
+                }
+                since = Instant::now();
+                ControlFlow::Continue(())
+            });
+            drop(basis_step);
+            if let Some(pts) = points.take() {
+                pts.done(&adaptive.as_ref().map(|a| format!(", {}, worst e*_1 {:.2e}", a.sweep.end.name(), a.worst_error)).unwrap_or_else(|e| format!(", failed: {e}")));
+            }
             let adaptive = match adaptive {
                 Ok(a) => a,
                 Err(e) => {
@@ -661,7 +694,6 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
             write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors))?;
             series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
-            let basis_seconds = 0.0;
             let mut warnings = sweep_warnings(res, p, band);
             if adaptive.worst_error > aopts.threshold {
                 warnings.push(format!(

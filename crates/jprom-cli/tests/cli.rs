@@ -54,6 +54,19 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     let _ = std::fs::remove_dir_all(&out_dir);
     let (code, out, err) = jprom(&["run", f.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}\n{err}");
+    // progress in plain lines (stderr is a pipe here): every long stage starts and ends with its time
+    for stage in [
+        "jprom: building the built-in blade (refinement 1) ...",
+        "jprom: Craig-Bampton (50 fixed-interface modes): done in",
+        "jprom: FO sweep, alpha_ST x 1e-1 ...",
+        "jprom: NLR basis prediction, alpha_ST x 1e-1: done in",
+        "jprom: NLR sweep, alpha_ST x 1e-1, basis 0: done in",
+    ] {
+        assert!(err.contains(stage), "no '{stage}' in the progress:\n{err}");
+    }
+    // the FO sweep's line counts the points it really made (the CSV's rows)
+    let fo_rows = std::fs::read_to_string(out_dir.join("alpha_ST_x1e-1_fo.csv")).unwrap().lines().count() - 1;
+    assert!(err.contains(&format!("jprom: FO sweep, alpha_ST x 1e-1: done in")) && err.lines().any(|l| l.starts_with("jprom: FO sweep") && l.contains(&format!(", {fo_rows} points"))), "{fo_rows} points:\n{err}");
     for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg"] {
         assert!(out_dir.join(file).exists(), "missing {file}");
     }
@@ -73,4 +86,56 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     let nlr_row = rows.iter().find(|r| r["solver"] == "NLR").unwrap();
     let (ps, act) = (nlr_row["predicted_e1"].as_f64().unwrap(), nlr_row["actual_e1"].as_f64().unwrap());
     assert!(ps >= act, "predictor not conservative: e* {ps} < e {act}");
+    // the basis time is measured: part of the ROM's time, not zero
+    let (basis, total) = (nlr_row["basis_seconds"].as_f64().unwrap(), nlr_row["sweep_seconds"].as_f64().unwrap());
+    assert!(basis > 0.0 && basis < total, "basis {basis} s of {total} s");
+    // --quiet: no progress at all
+    let (code, _, err) = jprom(&["run", f.to_str().unwrap(), "--quiet", "--out", out_dir.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(err.is_empty(), "--quiet: {err}");
+}
+
+/// `--version`, `--help`/`-h` on every command (usage and options on stdout, exit 0, nothing
+/// run), and an option a command does not take is a usage error (exit 2) naming it.
+#[test]
+fn version_help_and_unknown_options_follow_the_conventions() {
+    let (code, out, _) = jprom(&["--version"]);
+    assert_eq!(code, 0);
+    assert_eq!(out.trim(), format!("jprom {}", env!("CARGO_PKG_VERSION")));
+    let (code, out, _) = jprom(&["--help"]);
+    assert_eq!(code, 0);
+    for cmd in ["demo", "run", "check", "modes"] {
+        assert!(out.contains(&format!("jprom {cmd}")), "top-level help lists {cmd}: {out}");
+        for flag in ["--help", "-h"] {
+            let (code, out, err) = jprom(&[cmd, flag]);
+            assert_eq!(code, 0, "{cmd} {flag}: {err}");
+            assert!(out.starts_with(&format!("usage: jprom {cmd}")) && out.contains("options:") && out.contains("--help, -h"), "{cmd} {flag}: {out}");
+            // nothing was run: no model built, no progress, no results
+            assert!(err.is_empty() && !out.contains("results in"), "{cmd} {flag} ran something: {err}");
+        }
+        // --help after other arguments, too
+        let study: &[&str] = if cmd == "demo" { &[] } else { &["study.toml"] };
+        let (code, out, _) = jprom(&[&[cmd], study, &["--help"]].concat());
+        assert_eq!(code, 0);
+        assert!(out.starts_with(&format!("usage: jprom {cmd}")));
+        let (code, out, err) = jprom(&[&[cmd], study, &["--frobnicate"]].concat());
+        assert_eq!(code, 2, "{cmd} --frobnicate: {out}");
+        assert!(err.contains("'--frobnicate'") && err.contains(&format!("usage: jprom {cmd}")), "{err}");
+    }
+    let (_, out, _) = jprom(&["run", "--help"]);
+    for opt in ["--out DIR", "--keep-partial", "--quiet"] {
+        assert!(out.contains(opt), "run --help lists {opt}: {out}");
+    }
+    let (_, out, _) = jprom(&["modes", "-h"]);
+    assert!(out.contains("--count N"), "{out}");
+    // a value missing, an extra argument
+    let (code, _, err) = jprom(&["run", "study.toml", "--out"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--out needs a value"), "{err}");
+    let (code, _, err) = jprom(&["check", "a.toml", "b.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unexpected argument 'b.toml'"), "{err}");
+    let (code, _, err) = jprom(&["demo", "--quiet=yes"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--quiet takes no value"), "{err}");
 }
