@@ -133,8 +133,34 @@ fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> 
     let q = d.partial_piv_lu().solve(&rhs);
     let mut scale = f64::INFINITY;
     let mut why = String::new();
-    for (c, (law, &off)) in coords.laws.iter().zip(&coords.offsets).enumerate() {
-        if let ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } = *law {
+    // A Parallel block's members each have their own limit; a polynomial spring has none.
+    let members = coords.laws.iter().zip(&coords.offsets).enumerate().flat_map(|(c, (l, &off))| l.members().iter().map(move |m| (c, m, off)));
+    for (c, law, off) in members {
+        if let ContactLaw::Friction2D { kt, kn, mu, n0 } = *law {
+            let n_static = n0 + kn * static_z[off + 1];
+            let (t0, t1, v1) = (kt * static_z[off].abs(), kt * q[(off, 0)].norm(), kn * q[(off + 1, 0)].norm());
+            if n_static <= 0.0 {
+                why = format!("2D contact {c} is open in the static state (normal force {n_static:.3e})");
+                scale = 0.0;
+            } else if t0 >= mu * n_static * (1.0 - 1e-9) {
+                why = format!("2D contact {c} slides in the static state (|T0| / N0 = {:.3} >= mu = {mu})", t0 / n_static);
+                scale = 0.0;
+            }
+            if t1 > 0.0 {
+                scale = scale.min((mu * n_static - t0).max(0.0) / t1);
+            }
+            if v1 > 0.0 {
+                scale = scale.min(n_static.max(0.0) / v1);
+            }
+        } else if let ContactLaw::Unilateral { kn, n0 } = *law {
+            // A preloaded spring's limit is its opening; one open (a gap) in the static state
+            // sets no limit of the stuck (closed) linear response.
+            let n_static = n0 + kn * static_z[off];
+            let v1 = kn * q[(off, 0)].norm();
+            if n_static > 0.0 && v1 > 0.0 {
+                scale = scale.min(n_static / v1);
+            }
+        } else if let ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } = *law {
             let n_static = n0 + kn * static_z[off + 2];
             let t0 = (kt1 * static_z[off]).hypot(kt2 * static_z[off + 1]);
             let t1 = (kt1 * q[(off, 0)].norm()).hypot(kt2 * q[(off + 1, 0)].norm());

@@ -19,6 +19,7 @@ mod fourier;
 
 pub use fourier::{AftBackend, TABLES_MAX_H};
 
+use crate::contact::elastic::{Friction2D, Polynomial, Unilateral};
 use crate::contact::jenkins::Jenkins;
 use crate::contact::law::Friction3D;
 use crate::contact::{ContactLaw, ContactState, SampleLaw};
@@ -78,6 +79,11 @@ pub struct AftWorkspace {
     scratch: Vec<Complex<f64>>,
     /// Gathered local coefficients of one contact (used by [`evaluate_contacts`]).
     w_local: Vec<f64>,
+    /// Force, Jacobian and cycle of one member of a [`ContactLaw::Parallel`] (sized on first
+    /// use, then reused).
+    member_force: Vec<f64>,
+    member_jac: Vec<f64>,
+    member_cycle: ContactCycle,
 }
 
 impl AftPlan {
@@ -141,6 +147,9 @@ impl AftPlan {
             buf: vec![Complex::new(0.0, 0.0); nt],
             scratch: vec![Complex::new(0.0, 0.0); self.fourier.scratch_len.max(1)],
             w_local: vec![0.0; n],
+            member_force: Vec::new(),
+            member_jac: Vec::new(),
+            member_cycle: ContactCycle::default(),
         }
     }
 
@@ -181,7 +190,79 @@ impl AftPlan {
                 let p = Jenkins::from_law(law).expect("Jenkins law");
                 self.contact_law(&p, w, force, jac, cycle, ws)
             }
+            ContactLaw::Polynomial { .. } => {
+                let p = Polynomial::from_law(law).expect("polynomial law");
+                self.contact_law(&p, w, force, jac, cycle, ws)
+            }
+            ContactLaw::Unilateral { .. } => {
+                let p = Unilateral::from_law(law).expect("unilateral law");
+                self.contact_law(&p, w, force, jac, cycle, ws)
+            }
+            ContactLaw::Friction2D { .. } => {
+                let p = Friction2D::from_law(law).expect("2D law");
+                self.contact_law(&p, w, force, jac, cycle, ws)
+            }
+            ContactLaw::Parallel(laws) => self.contact_parallel(laws, w, force, jac, cycle, ws),
         }
+    }
+
+    /// The members of a [`ContactLaw::Parallel`] one after the other on the same `w`: forces,
+    /// Jacobians and dissipated energies summed; the state of a sample is `Slip` if a member
+    /// slips, else `Stick` if a member acts, else `Separated`.
+    fn contact_parallel(
+        &self,
+        laws: &[ContactLaw],
+        w: &[f64],
+        force: &mut [f64],
+        mut jac: Option<&mut [f64]>,
+        mut cycle: Option<&mut ContactCycle>,
+        ws: &mut AftWorkspace,
+    ) {
+        let n = force.len();
+        force.fill(0.0);
+        if let Some(j) = jac.as_deref_mut() {
+            j.fill(0.0);
+        }
+        let mut f_m = std::mem::take(&mut ws.member_force);
+        let mut j_m = std::mem::take(&mut ws.member_jac);
+        let mut cy_m = std::mem::take(&mut ws.member_cycle);
+        f_m.resize(n, 0.0);
+        if jac.is_some() {
+            j_m.resize(n * n, 0.0);
+        }
+        for (i, law) in laws.iter().enumerate() {
+            let jm = if jac.is_some() { Some(&mut j_m[..n * n]) } else { None };
+            let cm = if cycle.is_some() { Some(&mut cy_m) } else { None };
+            // Members are never Parallel themselves (ContactLaw::validate).
+            self.contact(law, w, &mut f_m[..n], jm, cm, ws);
+            for (o, v) in force.iter_mut().zip(&f_m[..n]) {
+                *o += v;
+            }
+            if let Some(j) = jac.as_deref_mut() {
+                for (o, v) in j.iter_mut().zip(&j_m[..n * n]) {
+                    *o += v;
+                }
+            }
+            if let Some(cy) = cycle.as_deref_mut() {
+                if i == 0 {
+                    cy.states.clear();
+                    cy.states.extend_from_slice(&cy_m.states);
+                    cy.dissipated_energy = cy_m.dissipated_energy;
+                } else {
+                    for (s, &sm) in cy.states.iter_mut().zip(&cy_m.states) {
+                        *s = match (*s, sm) {
+                            (ContactState::Slip, _) | (_, ContactState::Slip) => ContactState::Slip,
+                            (ContactState::Stick, _) | (_, ContactState::Stick) => ContactState::Stick,
+                            _ => ContactState::Separated,
+                        };
+                    }
+                    cy.dissipated_energy += cy_m.dissipated_energy;
+                }
+            }
+        }
+        ws.member_force = f_m;
+        ws.member_jac = j_m;
+        ws.member_cycle = cy_m;
     }
 
     /// The one chain-rule loop over the period for any [`SampleLaw`] (docs/formulation.md §3):
@@ -210,8 +291,12 @@ impl AftPlan {
         let v = &mut v[..nt];
         if m == 2 {
             f.synthesize(w, d, 0, u1, Some((1, u2)), buf, scratch);
-        } else {
+        } else if m == 1 {
             f.synthesize(w, d, 0, u1, None, buf, scratch);
+            u2.fill(0.0);
+        } else {
+            // No tangential direction (memoryless scalar laws): the predictor sees no motion.
+            u1.fill(0.0);
             u2.fill(0.0);
         }
         if L::HAS_NORMAL {
@@ -293,7 +378,7 @@ impl AftPlan {
         let (t1, t2) = tangential.split_at(nt);
         if m == 2 {
             f.analyze(t1, Some(&t2[..nt]), force, 0, 1, d, buf, scratch);
-        } else {
+        } else if m == 1 {
             f.analyze(t1, None, force, 0, 0, d, buf, scratch);
         }
         if L::HAS_NORMAL {

@@ -8,6 +8,7 @@
 
 pub mod law;
 pub mod jenkins;
+pub mod elastic;
 
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
@@ -22,7 +23,8 @@ use serde::{Deserialize, Serialize};
 /// Local coordinates are the `TANGENTIAL` directions first, then the normal one if
 /// `HAS_NORMAL`; tangential quantities are `[f64; 2]` with the unused entries zero.
 pub trait SampleLaw {
-    /// Number of tangential directions (2 for the 3D element, 1 for Jenkins).
+    /// Number of tangential directions (2 for the 3D element, 1 for Jenkins and the 2D
+    /// element, 0 for the memoryless scalar springs).
     const TANGENTIAL: usize;
     /// Whether a normal coordinate follows the tangential ones.
     const HAS_NORMAL: bool;
@@ -109,26 +111,80 @@ pub enum ContactLaw {
     /// 1D Jenkins element: spring `kt` in series with a slider of limit `mu * normal_load`
     /// (constant normal load, never separates). Acts on a scalar `w = u`.
     Jenkins { kt: f64, mu: f64, normal_load: f64 },
+    /// 1D polynomial spring, memoryless: `F(w) = sum_p c_p w^p` with `c_p = coefficients[p - 1]`
+    /// (`p = 1..=P`, no constant term), so `[k1, 0, k3]` is the cubic (Duffing) spring
+    /// `k1 w + k3 w^3`. Acts on a scalar `w` in both signs; coefficients may be negative
+    /// (softening). Its stuck stiffness is the linearisation at `w = 0`, `c_1`.
+    Polynomial { coefficients: Vec<f64> },
+    /// 1D unilateral spring with gap or preload: `N = max(0, n0 + kn v)` on a scalar `v`
+    /// (positive into the contact); the gap is `-n0 / kn` when `n0 < 0`.
+    Unilateral { kn: f64, n0: f64 },
+    /// 2D friction element: tangential spring `kt` with Coulomb friction `mu` on `u`, unilateral
+    /// normal spring `kn` with preload `n0` on `v`. Acts on `w = (u, v)`.
+    Friction2D { kt: f64, kn: f64, mu: f64, n0: f64 },
+    /// Several laws of the same dimension acting in parallel on the same local coordinates:
+    /// the force and the Jacobian are the sums of the members'. [`crate::model::ContactCoordinates`]
+    /// builds it for elements with the same kinematics (same `dofs_a`, `dofs_b` and frame);
+    /// members may not be `Parallel` themselves.
+    Parallel(Vec<ContactLaw>),
 }
 
 impl ContactLaw {
-    /// Number of local coordinates the law acts on (3 or 1).
+    /// Number of local coordinates the law acts on (3, 2 or 1).
     pub fn dim(&self) -> usize {
         match self {
             ContactLaw::Friction3D { .. } => 3,
-            ContactLaw::Jenkins { .. } => 1,
+            ContactLaw::Friction2D { .. } => 2,
+            ContactLaw::Jenkins { .. } | ContactLaw::Polynomial { .. } | ContactLaw::Unilateral { .. } => 1,
+            ContactLaw::Parallel(laws) => laws.first().map_or(1, ContactLaw::dim),
         }
     }
 
-    /// Linear stiffness of the fully stuck, closed contact: `diag(kt1, kt2, kn)` or `kt`.
+    /// Linear stiffness of the fully stuck, closed contact: `diag(kt1, kt2, kn)`, `kt`,
+    /// `(kt, kn)`, `kn`, the polynomial's `c_1`, or the sum over parallel laws.
     pub fn stuck_stiffness(&self) -> Vec<f64> {
-        match *self {
-            ContactLaw::Friction3D { kt1, kt2, kn, .. } => vec![kt1, kt2, kn],
-            ContactLaw::Jenkins { kt, .. } => vec![kt],
+        match self {
+            ContactLaw::Friction3D { kt1, kt2, kn, .. } => vec![*kt1, *kt2, *kn],
+            ContactLaw::Friction2D { kt, kn, .. } => vec![*kt, *kn],
+            ContactLaw::Jenkins { kt, .. } => vec![*kt],
+            ContactLaw::Polynomial { coefficients } => vec![coefficients.first().copied().unwrap_or(0.0)],
+            ContactLaw::Unilateral { kn, .. } => vec![*kn],
+            ContactLaw::Parallel(laws) => {
+                let mut k = vec![0.0; self.dim()];
+                for law in laws {
+                    for (s, v) in k.iter_mut().zip(law.stuck_stiffness()) {
+                        *s += v;
+                    }
+                }
+                k
+            }
         }
     }
 
-    /// Rejects negative or non-finite parameters.
+    /// The laws acting on the coordinates: the members of a [`ContactLaw::Parallel`], else
+    /// the law itself.
+    pub fn members(&self) -> &[ContactLaw] {
+        match self {
+            ContactLaw::Parallel(laws) => laws,
+            law => std::slice::from_ref(law),
+        }
+    }
+
+    /// A short name of the law for messages ("Friction3D", "Polynomial", ...).
+    pub fn name(&self) -> &'static str {
+        match self {
+            ContactLaw::Friction3D { .. } => "Friction3D",
+            ContactLaw::Friction2D { .. } => "Friction2D",
+            ContactLaw::Jenkins { .. } => "Jenkins",
+            ContactLaw::Polynomial { .. } => "Polynomial",
+            ContactLaw::Unilateral { .. } => "Unilateral",
+            ContactLaw::Parallel(_) => "Parallel",
+        }
+    }
+
+    /// Rejects negative or non-finite parameters (a polynomial's coefficients need only be
+    /// finite; it needs one to [`POLYNOMIAL_MAX_TERMS`] of them), an empty or nested
+    /// [`ContactLaw::Parallel`] and one whose members differ in dimension.
     pub fn validate(&self, what: &str) -> Result<()> {
         let check = |name: &str, v: f64| -> Result<()> {
             if !v.is_finite() || v < 0.0 {
@@ -137,8 +193,56 @@ impl ContactLaw {
                 Ok(())
             }
         };
-        match *self {
-            ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } => {
+        let finite = |name: &str, v: f64| -> Result<()> {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(JpError::invalid(format!("{what}.{name}"), format!("must be finite, got {v}")))
+            }
+        };
+        match self {
+            ContactLaw::Polynomial { coefficients } => {
+                if coefficients.is_empty() || coefficients.len() > POLYNOMIAL_MAX_TERMS {
+                    return Err(JpError::invalid(
+                        format!("{what}.coefficients"),
+                        format!("needs 1 to {POLYNOMIAL_MAX_TERMS} coefficients (c_1 .. c_P), got {}", coefficients.len()),
+                    ));
+                }
+                for (i, &c) in coefficients.iter().enumerate() {
+                    finite(&format!("coefficients[{i}]"), c)?;
+                }
+                Ok(())
+            }
+            ContactLaw::Unilateral { kn, n0 } => {
+                check("kn", *kn)?;
+                finite("n0", *n0)
+            }
+            ContactLaw::Friction2D { kt, kn, mu, n0 } => {
+                check("kt", *kt)?;
+                check("kn", *kn)?;
+                check("mu", *mu)?;
+                finite("n0", *n0)
+            }
+            ContactLaw::Parallel(laws) => {
+                let Some(first) = laws.first() else {
+                    return Err(JpError::invalid(what.to_string(), "a Parallel law needs at least one member"));
+                };
+                for (i, law) in laws.iter().enumerate() {
+                    let wi = format!("{what}.Parallel[{i}]");
+                    if matches!(law, ContactLaw::Parallel(_)) {
+                        return Err(JpError::invalid(wi, "a Parallel law cannot contain another Parallel law"));
+                    }
+                    if law.dim() != first.dim() {
+                        return Err(JpError::invalid(
+                            wi,
+                            format!("{} acts on {} coordinates, the first member on {}", law.name(), law.dim(), first.dim()),
+                        ));
+                    }
+                    law.validate(&wi)?;
+                }
+                Ok(())
+            }
+            &ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } => {
                 check("kt1", kt1)?;
                 check("kt2", kt2)?;
                 check("kn", kn)?;
@@ -148,7 +252,7 @@ impl ContactLaw {
                 }
                 Ok(())
             }
-            ContactLaw::Jenkins { kt, mu, normal_load } => {
+            &ContactLaw::Jenkins { kt, mu, normal_load } => {
                 check("kt", kt)?;
                 check("mu", mu)?;
                 check("normal_load", normal_load)
@@ -156,6 +260,9 @@ impl ContactLaw {
         }
     }
 }
+
+/// Most coefficients a [`ContactLaw::Polynomial`] may have (powers 1 to 16).
+pub const POLYNOMIAL_MAX_TERMS: usize = 16;
 
 /// The contacts of a system as the AFT sees them: their laws in order, the offset of each
 /// contact's coordinates in `w`, and the number of contact coordinates `n_w`.
@@ -169,12 +276,14 @@ pub struct Contacts<'a> {
 /// Where a contact sits: the DoFs of node `a` (and `b` for a pair) and the local frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contact {
-    /// Global DoF indices of node `a` (3 for a 3D law, 1 for Jenkins).
+    /// Global DoF indices of node `a` (one per local coordinate: 3 for the 3D law, 2 for the
+    /// 2D law, 1 for the scalar laws).
     pub dofs_a: Vec<usize>,
     /// Global DoF indices of node `b` for a node pair; `None` for a contact with ground.
     pub dofs_b: Option<Vec<usize>>,
     /// Rotation to the local frame: rows are the unit vectors `t1`, `t2`, `n` in global
-    /// coordinates, so `w = R x`. For Jenkins, `[[1]]`-like: only `frame[0][0]` (sign) is used.
+    /// coordinates, so `w = R x`. Only the leading `dim x dim` block is used: for the 2D law a
+    /// 2 x 2 rotation (rows `t`, `n`), for the scalar laws `frame[0][0] = +-1` (the sign).
     pub frame: [[f64; 3]; 3],
     /// Constitutive law.
     pub law: ContactLaw,
@@ -199,7 +308,23 @@ impl Contact {
         }
     }
 
-    /// Number of local coordinates (3 or 1).
+    /// A 1D polynomial spring `F(w) = sum_p c_p w^p`, `w = x_a` or `x_a - x_b`.
+    pub fn polynomial(dof_a: usize, dof_b: Option<usize>, coefficients: Vec<f64>) -> Self {
+        Contact { dofs_a: vec![dof_a], dofs_b: dof_b.map(|b| vec![b]), frame: IDENTITY_FRAME, law: ContactLaw::Polynomial { coefficients } }
+    }
+    /// A 1D unilateral spring `N = max(0, n0 + kn v)`, `v = x_a` or `x_a - x_b`.
+    pub fn unilateral(dof_a: usize, dof_b: Option<usize>, kn: f64, n0: f64) -> Self {
+        Contact { dofs_a: vec![dof_a], dofs_b: dof_b.map(|b| vec![b]), frame: IDENTITY_FRAME, law: ContactLaw::Unilateral { kn, n0 } }
+    }
+    /// A 2D friction element on `w = (u, v) = R (x_a - x_b)` (or `R x_a`), `R` the 2 x 2
+    /// rotation with rows `t` and `n`.
+    pub fn friction_2d(dofs_a: [usize; 2], dofs_b: Option<[usize; 2]>, rotation: [[f64; 2]; 2], law: ContactLaw) -> Self {
+        let r = rotation;
+        let frame = [[r[0][0], r[0][1], 0.0], [r[1][0], r[1][1], 0.0], [0.0, 0.0, 1.0]];
+        Contact { dofs_a: dofs_a.to_vec(), dofs_b: dofs_b.map(|b| b.to_vec()), frame, law }
+    }
+
+    /// Number of local coordinates (3, 2 or 1).
     pub fn dim(&self) -> usize {
         self.law.dim()
     }
@@ -214,6 +339,12 @@ impl Contact {
             }
         }
         r
+    }
+
+    /// Whether `other` acts on the same local coordinates: same `dofs_a`, `dofs_b` and
+    /// rotation (then both laws act in parallel on one coordinate block).
+    pub fn same_kinematics(&self, other: &Contact) -> bool {
+        self.dim() == other.dim() && self.dofs_a == other.dofs_a && self.dofs_b == other.dofs_b && self.rotation() == other.rotation()
     }
 
     /// Checks DoF indices against the model size, the frame for orthonormality, and the law.

@@ -8,8 +8,8 @@
 //! Node pairs become a contact coordinate plus ordinary linear DoFs, which is what makes the
 //! condensation of §5 and the contact rows of the JP bases (§9) simple.
 
-use crate::contact::ContactLaw;
-use crate::error::Result;
+use crate::contact::{Contact, ContactLaw};
+use crate::error::{JpError, Result};
 use crate::model::Model;
 use faer::Mat;
 
@@ -20,10 +20,14 @@ pub struct ContactCoordinates {
     pub n_dof: usize,
     /// Number of contact coordinates `n_w` (the leading entries of `z`).
     pub n_w: usize,
-    /// Offset of each contact's coordinates in `w`.
+    /// Offset of each contact coordinate block in `w` (one block per group of contacts with
+    /// the same kinematics, see [`ContactGroups`]; one per contact when no two share one).
     pub offsets: Vec<usize>,
-    /// Contact laws, in contact order.
+    /// The law of each block: the contact's own law, or a [`ContactLaw::Parallel`] of the
+    /// laws of the group's contacts in model order.
     pub laws: Vec<ContactLaw>,
+    /// For each block, the model contacts acting on it (indices into `Model::contacts`).
+    pub groups: Vec<Vec<usize>>,
     /// For each physical DoF `i`, the entries `(j, T_ij)` of row `i` of `T`.
     pub rows: Vec<Vec<(usize, f64)>>,
     /// For each `z` coordinate `j >= n_w`, the physical DoF it is.
@@ -79,11 +83,12 @@ impl ContactCoordinates {
     pub fn new(model: &Model, harmonics: usize) -> Result<Self> {
         model.validate()?;
         let n = model.n_dof();
-        let mut offsets = Vec::with_capacity(model.contacts.len());
+        let groups = ContactGroups::new(&model.contacts, n)?;
+        let mut offsets = Vec::with_capacity(groups.groups.len());
         let mut n_w = 0;
-        for c in &model.contacts {
+        for g in &groups.groups {
             offsets.push(n_w);
-            n_w += c.dim();
+            n_w += model.contacts[g[0]].dim();
         }
         let mut is_a = vec![false; n];
         for c in &model.contacts {
@@ -100,22 +105,35 @@ impl ContactCoordinates {
         for &d in &linear_dofs {
             rows[d].push((z_of_dof[d], 1.0));
         }
-        // x_a = R^T w + x_b  (R orthonormal, w = R (x_a - x_b)).
-        for (c, off) in model.contacts.iter().zip(&offsets) {
+        // x_a = R^T w + x_b  (R orthonormal, w = R (x_a - x_b)), groups in dependency order so
+        // that a 'b' DoF which is itself an 'a' DoF (a chain) has its row already.
+        for &g in &groups.order {
+            let c = &model.contacts[groups.groups[g][0]];
+            let off = offsets[g];
             let dim = c.dim();
             let r = c.rotation();
             for (i, &da) in c.dofs_a.iter().enumerate() {
+                let mut row = Vec::new();
                 for k in 0..dim {
                     let coef = r[k * dim + i];
                     if coef != 0.0 {
-                        rows[da].push((off + k, coef));
+                        row.push((off + k, coef));
                     }
                 }
                 if let Some(b) = &c.dofs_b {
-                    rows[da].push((z_of_dof[b[i]], 1.0));
+                    row.extend_from_slice(&rows[b[i]]);
                 }
+                rows[da] = row;
             }
         }
+        let laws = groups
+            .groups
+            .iter()
+            .map(|g| match g.as_slice() {
+                [one] => model.contacts[*one].law.clone(),
+                many => ContactLaw::Parallel(many.iter().flat_map(|&c| model.contacts[c].law.members().to_vec()).collect()),
+            })
+            .collect();
         let nz = n; // T is square and invertible
         let transform = |a: &Mat<f64>| -> Mat<f64> {
             // B = A T  (n x nz)
@@ -161,7 +179,8 @@ impl ContactCoordinates {
             n_dof: n,
             n_w,
             offsets,
-            laws: model.contacts.iter().map(|c| c.law.clone()).collect(),
+            laws,
+            groups: groups.groups,
             rows,
             linear_dofs,
             mass,
@@ -187,5 +206,101 @@ impl ContactCoordinates {
     /// Physical displacement at the output DoFs, `(T z)[output_dofs]`.
     pub fn at_outputs(&self, z: &[f64]) -> Vec<f64> {
         self.output_dofs.iter().map(|&i| self.rows[i].iter().map(|&(j, t)| t * z[j]).sum()).collect()
+    }
+}
+
+/// How the contacts of a model map to contact coordinate blocks.
+///
+/// * Contacts with the same kinematics ([`Contact::same_kinematics`]: same `dofs_a`, `dofs_b`
+///   and frame) share one block: their laws act in parallel (forces summed), so a cubic spring
+///   and a Jenkins element on the same DoF to ground both act. Any other reuse of an `a` DoF is
+///   refused.
+/// * A `b` DoF may be the `a` DoF of another block (a chain, "q1 to ground and q2 - q1"): its
+///   row of `T` is resolved first ([`ContactGroups::order`]). A cycle is refused.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ContactGroups {
+    /// The contacts of each block, in model order; blocks ordered by their first contact.
+    pub groups: Vec<Vec<usize>>,
+    /// Block indices in an order where every block comes after the blocks owning its `b` DoFs.
+    pub order: Vec<usize>,
+}
+
+impl ContactGroups {
+    /// Groups the contacts of a model with `n_dof` DoFs (indices already checked).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the contact when an `a` DoF is shared by contacts of
+    /// different kinematics, or when `a`/`b` DoFs form a cycle.
+    pub fn new(contacts: &[Contact], n_dof: usize) -> Result<Self> {
+        let mut owner = vec![usize::MAX; n_dof]; // block whose 'a' DoF this is
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for (i, c) in contacts.iter().enumerate() {
+            let shared = c.dofs_a.iter().find(|&&d| d < n_dof && owner[d] != usize::MAX).copied();
+            match shared {
+                Some(dof) => {
+                    let g = owner[dof];
+                    let first = groups[g][0];
+                    if !c.same_kinematics(&contacts[first]) {
+                        return Err(JpError::invalid(
+                            format!("contact[{i}].dofs_a"),
+                            format!(
+                                "DoF {dof} is already the 'a' DoF of contact[{first}] with other kinematics; several elements may \
+                                 share an 'a' DoF only with the same dofs_a, dofs_b and frame (they then act in parallel on one \
+                                 coordinate), and a DoF may be the 'b' DoF of any number of elements and the 'a' DoF of a chain \
+                                 link (q1 to ground, q2 - q1)"
+                            ),
+                        ));
+                    }
+                    groups[g].push(i);
+                }
+                None => {
+                    for &d in &c.dofs_a {
+                        if d < n_dof {
+                            owner[d] = groups.len();
+                        }
+                    }
+                    groups.push(vec![i]);
+                }
+            }
+        }
+        // Dependency order (Kahn): block g needs the blocks owning its 'b' DoFs.
+        let ng = groups.len();
+        let deps: Vec<Vec<usize>> = groups
+            .iter()
+            .map(|g| {
+                let b = contacts[g[0]].dofs_b.as_deref().unwrap_or(&[]);
+                let mut d: Vec<usize> = b.iter().filter(|&&x| x < n_dof && owner[x] != usize::MAX).map(|&x| owner[x]).collect();
+                d.sort_unstable();
+                d.dedup();
+                d
+            })
+            .collect();
+        let mut done = vec![false; ng];
+        let mut order = Vec::with_capacity(ng);
+        loop {
+            let before = order.len();
+            for g in 0..ng {
+                if !done[g] && deps[g].iter().all(|&h| done[h]) {
+                    done[g] = true;
+                    order.push(g);
+                }
+            }
+            if order.len() == ng {
+                break;
+            }
+            if order.len() == before {
+                let g = (0..ng).find(|&g| !done[g]).expect("a block is left");
+                let c = groups[g][0];
+                let on: Vec<usize> = deps[g].iter().filter(|&&h| !done[h]).map(|&h| groups[h][0]).collect();
+                return Err(JpError::invalid(
+                    format!("contact[{c}].dofs_b"),
+                    format!(
+                        "the 'a'/'b' DoFs of the contacts form a cycle (contact[{c}]'s 'b' DoFs are 'a' DoFs of contact(s) {on:?}, \
+                         which depend back on it): a chain of elements must end at ground or at a DoF that is no element's 'a' DoF"
+                    ),
+                ));
+            }
+        }
+        Ok(ContactGroups { groups, order })
     }
 }

@@ -178,8 +178,11 @@ impl Model {
     }
 
     /// Checks sizes, symmetry (to [`SYMMETRY_TOLERANCE`]), finite values, positive masses,
-    /// contact parameters and DoF indices, and that no DoF is the `a` node of two contacts or
-    /// both an `a` node and a `b` node (needed for the relative contact coordinates).
+    /// contact parameters and DoF indices, and the contact topology the relative contact
+    /// coordinates need ([`contact_coordinates::ContactGroups::new`]): a DoF is the `a` DoF of
+    /// several contacts only when they have the same kinematics (same `dofs_a`, `dofs_b`,
+    /// frame; they then act in parallel), and chains (a `b` DoF that is another contact's `a`
+    /// DoF) have no cycle.
     ///
     /// # Errors
     /// [`JpError::BadSize`] or [`JpError::InvalidValue`] naming the offending item.
@@ -229,7 +232,6 @@ impl Model {
             check_finite(&format!("{what}.cos"), &hf.cos)?;
             check_finite(&format!("{what}.sin"), &hf.sin)?;
         }
-        let mut role = vec![0u8; n]; // 1 = a node, 2 = b node
         for (i, c) in self.contacts.iter().enumerate() {
             c.validate(i, n)?;
             for (k, &dof) in c.dofs_a.iter().enumerate() {
@@ -239,16 +241,7 @@ impl Model {
                         format!("DoF {dof} is repeated within the node ({:?}): a node's x, y, z DoFs must differ", c.dofs_a),
                     ));
                 }
-                if role[dof] != 0 {
-                    return Err(JpError::invalid(
-                        format!("contact[{i}].dofs_a"),
-                        format!("DoF {dof} already belongs to another contact"),
-                    ));
-                }
-                role[dof] = 1;
             }
-        }
-        for (i, c) in self.contacts.iter().enumerate() {
             let b = c.dofs_b.as_deref().unwrap_or(&[]);
             if let Some(k) = (1..b.len()).find(|&k| b[..k].contains(&b[k])) {
                 return Err(JpError::invalid(
@@ -256,16 +249,9 @@ impl Model {
                     format!("DoF {} is repeated within the node ({b:?}): a node's x, y, z DoFs must differ", b[k]),
                 ));
             }
-            for &dof in b {
-                if role[dof] == 1 {
-                    return Err(JpError::invalid(
-                        format!("contact[{i}].dofs_b"),
-                        format!("DoF {dof} is the 'a' node of a contact; chain pairs through their 'b' nodes"),
-                    ));
-                }
-                role[dof] = 2;
-            }
         }
+        // Shared 'a' DoFs (same kinematics only) and chains (no cycle).
+        contact_coordinates::ContactGroups::new(&self.contacts, n)?;
         for &o in &self.output_dofs {
             if o >= n {
                 return Err(JpError::invalid("output_dofs", format!("DoF {o} >= model size {n}")));
