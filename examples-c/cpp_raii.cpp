@@ -114,10 +114,10 @@ class Model {
         check(jprom_sweep(p_.get(), &opts, &band, nullptr, nullptr, &s), "jprom_sweep");
         return Sweep(s);
     }
-    // A JP basis predicted for [omega_lo, omega_hi].
-    Basis predict_basis(const jprom_hbm_options &opts, const jprom_jp_options &jp, double omega_lo, double omega_hi) const {
+    // A JP basis predicted for the band between omega_start and omega_end.
+    Basis predict_basis(const jprom_hbm_options &opts, const jprom_jp_options &jp, double omega_start, double omega_end) const {
         jprom_basis *b = nullptr;
-        check(jprom_basis_predict_opts(p_.get(), &opts, &jp, omega_lo, omega_hi, &b), "jprom_basis_predict_opts");
+        check(jprom_basis_predict_opts(p_.get(), &opts, &jp, omega_start, omega_end, &b), "jprom_basis_predict_opts");
         return Basis(b);
     }
     // The self-correcting reduced sweep (kind JPROM_ROM_FR or JPROM_ROM_NLR) and its final basis.

@@ -61,15 +61,15 @@ int main(int argc, char **argv) {
     TRY(jprom_fe_model_node_set(fe, "LOAD", load, n_load, NULL));
 
     /* 2. what the reduced model keeps: contacts, the first-harmonic load, the outputs (y) */
-    for (size_t i = 0; i < n_tip; ++i) TRY(jprom_fe_add_contact(fe, tip[i], FRAME, KT, KT, KN, MU, N0));
+    for (size_t i = 0; i < n_tip; ++i) TRY(jprom_fe_model_add_contact(fe, tip[i], FRAME, KT, KT, KN, MU, N0));
     const double f_y[3] = {0.0, FORCE, 0.0};
-    TRY(jprom_fe_add_force(fe, load[0], 1, f_y));
-    for (size_t i = 0; i < n_out; ++i) TRY(jprom_fe_add_output(fe, out[i], 1));
+    TRY(jprom_fe_model_add_force(fe, load[0], 1, f_y));
+    for (size_t i = 0; i < n_out; ++i) TRY(jprom_fe_model_add_output(fe, out[i], 1));
     free(tip);
 
     /* 3. Craig-Bampton: the reduced model is an ordinary jprom_model; the FE model can go */
     jprom_model *model = NULL;
-    TRY(jprom_fe_reduce(fe, CB_MODES, &model));
+    TRY(jprom_fe_model_reduce(fe, CB_MODES, &model));
     jprom_fe_model_free(fe);
     size_t n_red = 0;
     TRY(jprom_model_n_dof(model, &n_red));

@@ -3,8 +3,8 @@
 //! core's [`jprom::fe::FeModel`]; this file converts arguments and keeps the handle.
 //!
 //! A caller creates the FE model (`jprom_fe_model_new_csc` or `jprom_fe_model_load_calculix`),
-//! places contacts, forces, outputs and extra nodes on node ids (`jprom_fe_add_*`, checked at
-//! once), and calls `jprom_fe_reduce`, which returns a new `jprom_model` for the rest of the API.
+//! places contacts, forces, outputs and extra nodes on node ids (`jprom_fe_model_add_*`, checked at
+//! once), and calls `jprom_fe_model_reduce`, which returns a new `jprom_model` for the rest of the API.
 
 use super::guard::{csc_entries, ffi_guard, finite_arg, out_arg, path_arg, slice_arg, slice_out};
 use super::handle::{self, Handle};
@@ -16,7 +16,6 @@ use jprom::fe::{FeModel, FeNode, NodalContact, NodalForce, Reduction};
 use jprom::io::calculix::read_model;
 use jprom::linalg::{sparse_from_triplets, SparseMat};
 use jprom::model::Damping;
-use std::collections::BTreeMap;
 use std::ffi::c_char;
 
 /// Opaque FE model with what is placed on it so far. Created by `jprom_fe_model_new_csc` or
@@ -24,9 +23,7 @@ use std::ffi::c_char;
 #[allow(non_camel_case_types)]
 pub struct jprom_fe_model {
     magic: u64,
-    fe: FeModel,
-    /// Node sets (CalculiX `*NSET`s), upper-case names.
-    pub(crate) sets: BTreeMap<String, Vec<i64>>,
+    pub(crate) fe: FeModel,
     pub(crate) spec: Reduction,
 }
 
@@ -41,8 +38,8 @@ impl Handle for jprom_fe_model {
     }
 }
 
-fn wrap(fe: FeModel, sets: BTreeMap<String, Vec<i64>>) -> *mut jprom_fe_model {
-    handle::into_raw(jprom_fe_model { magic: jprom_fe_model::MAGIC, fe, sets, spec: Reduction::default() })
+fn wrap(fe: FeModel) -> *mut jprom_fe_model {
+    handle::into_raw(jprom_fe_model { magic: jprom_fe_model::MAGIC, fe, spec: Reduction::default() })
 }
 
 /// A CSC matrix from the caller, checked ([`csc_entries`], finite values), as a sparse matrix
@@ -97,7 +94,7 @@ pub unsafe extern "C" fn jprom_fe_model_new_csc(
             }
             nodes.push(FeNode { id, coords: None, dofs });
         }
-        *out = wrap(FeModel::new(k, m, nodes)?, BTreeMap::new());
+        *out = wrap(FeModel::new(k, m, nodes)?);
         Ok(())
     })
 }
@@ -112,7 +109,7 @@ pub unsafe extern "C" fn jprom_fe_model_load_calculix(inp: *const c_char, out: *
         let out = out_arg(out, "out")?;
         let ccx = read_model(&path_arg(inp, "inp")?)?;
         let fe = FeModel::from_calculix(&ccx)?;
-        *out = wrap(fe, ccx.node_sets.clone());
+        *out = wrap(fe);
         Ok(())
     })
 }
@@ -143,11 +140,8 @@ pub unsafe extern "C" fn jprom_fe_model_node_set(fe: *const jprom_fe_model, name
         if name.is_null() {
             return Err(FfiError::null("name"));
         }
-        let name = std::ffi::CStr::from_ptr(name).to_str().map_err(|_| FfiError::new(JPROM_INVALID_VALUE, "name is not UTF-8"))?.to_uppercase();
-        let set = f.sets.get(&name).ok_or_else(|| {
-            let known: Vec<&str> = f.sets.keys().map(String::as_str).collect();
-            FfiError::new(JPROM_INVALID_VALUE, format!("no node set '{name}' (the model has: {})", if known.is_empty() { "none".to_string() } else { known.join(", ") }))
-        })?;
+        let name = std::ffi::CStr::from_ptr(name).to_str().map_err(|_| FfiError::new(JPROM_INVALID_VALUE, "name is not UTF-8"))?;
+        let set = f.fe.node_set(name)?;
         if let Some(c) = count.as_mut() {
             *c = set.len();
         }
@@ -163,7 +157,7 @@ pub unsafe extern "C" fn jprom_fe_model_node_set(fe: *const jprom_fe_model, name
 /// `frame[9]` (row-major rows `t1`, `t2`, `n`, as in `jprom_model_add_contact_3d`) and the law
 /// `kt1, kt2, kn, mu >= 0`, preload `n0`. Contacts keep the order they are added in.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_add_contact(fe: *mut jprom_fe_model, node: i64, frame: *const f64, kt1: f64, kt2: f64, kn: f64, mu: f64, n0: f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_add_contact(fe: *mut jprom_fe_model, node: i64, frame: *const f64, kt1: f64, kt2: f64, kn: f64, mu: f64, n0: f64) -> jprom_status {
     ffi_guard!({
         let f = handle::get_mut(fe, "fe")?;
         let r = slice_arg(frame, 9, "frame")?;
@@ -182,7 +176,7 @@ pub unsafe extern "C" fn jprom_fe_add_contact(fe: *mut jprom_fe_model, node: i64
 /// Adds the force `force[3]` (x, y, z) on node `node` to harmonic `harmonic`: 0 the static load
 /// `f_E^0`, 1 the first harmonic (cos part).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_add_force(fe: *mut jprom_fe_model, node: i64, harmonic: usize, force: *const f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_add_force(fe: *mut jprom_fe_model, node: i64, harmonic: usize, force: *const f64) -> jprom_status {
     ffi_guard!({
         let f = handle::get_mut(fe, "fe")?;
         let v = slice_arg(force, 3, "force")?;
@@ -201,7 +195,7 @@ pub unsafe extern "C" fn jprom_fe_add_force(fe: *mut jprom_fe_model, node: i64, 
 /// Adds an output: direction `direction` (0, 1, 2: x, y, z) of node `node`. Outputs keep the
 /// order they are added in (output `j` of the reduced model is the `j`-th added).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_add_output(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_add_output(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
     ffi_guard!({
         let f = handle::get_mut(fe, "fe")?;
         if direction > 2 {
@@ -215,7 +209,7 @@ pub unsafe extern "C" fn jprom_fe_add_output(fe: *mut jprom_fe_model, node: i64,
 
 /// Keeps node `node` (its x, y, z) in the reduced model although nothing is placed on it.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_keep_node(fe: *mut jprom_fe_model, node: i64) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_keep_node(fe: *mut jprom_fe_model, node: i64) -> jprom_status {
     ffi_guard!({
         let f = handle::get_mut(fe, "fe")?;
         f.fe.node(node)?.translations()?;
@@ -225,7 +219,7 @@ pub unsafe extern "C" fn jprom_fe_keep_node(fe: *mut jprom_fe_model, node: i64) 
 }
 
 /// Sets the FE model's viscous damping matrix `C` (compressed sparse column form like `K` and
-/// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_reduce`
+/// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_model_reduce`
 /// reduces it with the model (`T^T C T`) into the reduced model's added damping matrix.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_fe_model_set_damping_csc(
@@ -269,7 +263,7 @@ pub unsafe extern "C" fn jprom_fe_model_modes(fe: *const jprom_fe_model, n_modes
 /// contacts, forces, outputs or kept nodes (those are checked against the current DoFs; a
 /// contact on a node that loses a translation is refused).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_fix_dof(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_fix_dof(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
     ffi_guard!({
         let f = handle::get_mut(fe, "fe")?;
         let placed = f.spec.contacts.iter().map(|c| c.node).chain(f.spec.static_forces.iter().chain(&f.spec.harmonic_forces).map(|l| l.node));
@@ -282,10 +276,10 @@ pub unsafe extern "C" fn jprom_fe_fix_dof(fe: *mut jprom_fe_model, node: i64, di
     })
 }
 
-/// As `jprom_fe_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
+/// As `jprom_fe_model_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
 /// most `max_modes` of them. `*out` is written only on success.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_reduce_cutoff(fe: *const jprom_fe_model, cutoff_hz: f64, max_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_reduce_cutoff(fe: *const jprom_fe_model, cutoff_hz: f64, max_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
     ffi_guard!({
         let f = handle::get(fe, "fe")?;
         let out = out_arg(out, "out")?;
@@ -302,7 +296,7 @@ pub unsafe extern "C" fn jprom_fe_reduce_cutoff(fe: *const jprom_fe_model, cutof
 /// else none; add Rayleigh, modal or structural damping with the `jprom_model_set_*` damping
 /// functions. Its contact `i` is the `i`-th added, its output `j` the `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_fe_reduce(fe: *const jprom_fe_model, cb_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
+pub unsafe extern "C" fn jprom_fe_model_reduce(fe: *const jprom_fe_model, cb_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
     ffi_guard!({
         let f = handle::get(fe, "fe")?;
         let out = out_arg(out, "out")?;
@@ -310,4 +304,60 @@ pub unsafe extern "C" fn jprom_fe_reduce(fe: *const jprom_fe_model, cb_modes: us
         *out = jprom_model::wrap(f.fe.reduce(&spec, Damping::default())?);
         Ok(())
     })
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_contact`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_add_contact")]
+pub unsafe extern "C" fn jprom_fe_add_contact(fe: *mut jprom_fe_model, node: i64, frame: *const f64, kt1: f64, kt2: f64, kn: f64, mu: f64, n0: f64) -> jprom_status {
+    jprom_fe_model_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_force`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_add_force")]
+pub unsafe extern "C" fn jprom_fe_add_force(fe: *mut jprom_fe_model, node: i64, harmonic: usize, force: *const f64) -> jprom_status {
+    jprom_fe_model_add_force(fe, node, harmonic, force)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_output`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_add_output")]
+pub unsafe extern "C" fn jprom_fe_add_output(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
+    jprom_fe_model_add_output(fe, node, direction)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_keep_node`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_keep_node")]
+pub unsafe extern "C" fn jprom_fe_keep_node(fe: *mut jprom_fe_model, node: i64) -> jprom_status {
+    jprom_fe_model_keep_node(fe, node)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_fix_dof`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_fix_dof")]
+pub unsafe extern "C" fn jprom_fe_fix_dof(fe: *mut jprom_fe_model, node: i64, direction: usize) -> jprom_status {
+    jprom_fe_model_fix_dof(fe, node, direction)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_reduce_cutoff`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_reduce_cutoff")]
+pub unsafe extern "C" fn jprom_fe_reduce_cutoff(fe: *const jprom_fe_model, cutoff_hz: f64, max_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
+    jprom_fe_model_reduce_cutoff(fe, cutoff_hz, max_modes, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_reduce`, named like every other
+/// function on a `jprom_fe_model`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_fe_model_reduce")]
+pub unsafe extern "C" fn jprom_fe_reduce(fe: *const jprom_fe_model, cb_modes: usize, out: *mut *mut jprom_model) -> jprom_status {
+    jprom_fe_model_reduce(fe, cb_modes, out)
 }

@@ -53,7 +53,8 @@ pub enum jprom_rom_kind {
 }
 
 /// Predicts a JP basis for `model` without any full-order solution: boundary conditions
-/// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
+/// sampled along the stuck mode nearest the band between `omega_start` and `omega_end` (rad/s,
+/// either order, as in `jprom_sweep_options`) at
 /// `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
 /// with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
 /// AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
@@ -65,8 +66,8 @@ pub enum jprom_rom_kind {
 pub unsafe extern "C" fn jprom_basis_predict(
     model: *const jprom_model,
     options: *const jprom_hbm_options,
-    omega_lo: f64,
-    omega_hi: f64,
+    omega_start: f64,
+    omega_end: f64,
     gamma: f64,
     n_samples: usize,
     out: *mut *mut jprom_basis,
@@ -75,7 +76,7 @@ pub unsafe extern "C" fn jprom_basis_predict(
         let m = handle::get(model, "model")?;
         let (hopts, _) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
-        let band = (finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?);
+        let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let mut p = PredictionOptions::new(band);
         p.harmonics = hopts.harmonics;
@@ -292,8 +293,11 @@ fn prediction_options(o: &jprom_jp_options, hopts: &HbmOptions, band: (f64, f64)
     p
 }
 
-fn band_arg(omega_lo: f64, omega_hi: f64) -> Result<(f64, f64), FfiError> {
-    Ok((finite_arg("omega_lo", omega_lo)?, finite_arg("omega_hi", omega_hi)?))
+/// The band between `omega_start` and `omega_end`, in either order (as a sweep's
+/// `jprom_sweep_options`), as `(lo, hi)`.
+fn band_arg(omega_start: f64, omega_end: f64) -> Result<(f64, f64), FfiError> {
+    let (a, b) = (finite_arg("omega_start", omega_start)?, finite_arg("omega_end", omega_end)?);
+    Ok((a.min(b), a.max(b)))
 }
 
 /// `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
@@ -304,8 +308,8 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
     model: *const jprom_model,
     options: *const jprom_hbm_options,
     jp_options: *const jprom_jp_options,
-    omega_lo: f64,
-    omega_hi: f64,
+    omega_start: f64,
+    omega_end: f64,
     out: *mut *mut jprom_basis,
 ) -> jprom_status {
     ffi_guard!({
@@ -313,7 +317,7 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
         let (hopts, _) = hbm_options(options)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
-        let band = band_arg(omega_lo, omega_hi)?;
+        let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let (basis, _) = predict_basis(&coords, &prediction_options(&jo, &hopts, band))?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
@@ -323,7 +327,8 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
 
 /// The basis of a full-order solution's own boundary conditions (docs/formulation.md §8): the contact
 /// stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
-/// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
+/// or not), its JP modes in the band between `omega_start` and `omega_end` (rad/s, either order;
+/// plus `jp_options->extra_outside` nearest
 /// ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
 /// solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
 /// samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
@@ -334,8 +339,8 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
     solution: *const jprom_solution,
     options: *const jprom_hbm_options,
     jp_options: *const jprom_jp_options,
-    omega_lo: f64,
-    omega_hi: f64,
+    omega_start: f64,
+    omega_end: f64,
     out: *mut *mut jprom_basis,
 ) -> jprom_status {
     ffi_guard!({
@@ -347,7 +352,7 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
         if sol.origin == Origin::Reduced {
             return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
         }
-        let band = band_arg(omega_lo, omega_hi)?;
+        let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
         let bopts = BasisOptions { modes: mode_options(&jo, band), gamma: jo.gamma };

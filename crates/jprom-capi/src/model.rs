@@ -218,7 +218,7 @@ pub unsafe extern "C" fn jprom_model_set_modal_damping(model: *mut jprom_model, 
 
 /// Viscous damping matrix added to the Rayleigh part: `C = alpha M + beta K + C_added`, from a
 /// dense, column-major `n x n` array (`n` = the model's DoF count; symmetric). `c = NULL` with
-/// `n = 0` removes it. A model from `jprom_fe_reduce` already holds the reduced FE `C` here
+/// `n = 0` removes it. A model from `jprom_fe_model_reduce` already holds the reduced FE `C` here
 /// if one was set with `jprom_fe_model_set_damping_csc`; this replaces it.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_model_set_damping_matrix(model: *mut jprom_model, c: *const f64, n: usize) -> jprom_status {

@@ -45,15 +45,15 @@ fn damping_and_modes_from_c_equal_the_rust_api() {
         // FE damping matrix, reduced with the model
         let (cp, ri, va) = damping_csc(&rust_fe);
         assert_eq!(jprom_fe_model_set_damping_csc(fe, n, cp.as_ptr(), ri.as_ptr(), va.as_ptr()), jprom_status::JPROM_OK, "{}", message());
-        let tip = (&(*fe).sets)["TIP"].clone();
+        let tip = (*fe).fe.node_set("TIP").unwrap().to_vec();
         let frame: Vec<f64> = jprom::contact::IDENTITY_FRAME.iter().flatten().copied().collect();
         for &node in &tip[..3] {
-            assert_eq!(jprom_fe_add_contact(fe, node, frame.as_ptr(), 1e5, 1e5, 2e5, 0.3, 100.0), jprom_status::JPROM_OK);
+            assert_eq!(jprom_fe_model_add_contact(fe, node, frame.as_ptr(), 1e5, 1e5, 2e5, 0.3, 100.0), jprom_status::JPROM_OK);
         }
-        let load = (&(*fe).sets)["LOAD"][0];
-        assert_eq!(jprom_fe_add_force(fe, load, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        let load = (*fe).fe.node_set("LOAD").unwrap()[0];
+        assert_eq!(jprom_fe_model_add_force(fe, load, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
         let mut model = null_mut();
-        assert_eq!(jprom_fe_reduce(fe, 10, &mut model), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_model_reduce(fe, 10, &mut model), jprom_status::JPROM_OK, "{}", message());
 
         let mut rust_fe_c = rust_fe.clone();
         let c = jprom::linalg::sparse_from_triplets(n, n, {
@@ -70,7 +70,7 @@ fn damping_and_modes_from_c_equal_the_rust_api() {
         let spec = jprom::fe::Reduction { cb_modes: 10, ..(*fe).spec.clone() };
         let mut rust = rust_fe_c.reduce(&spec, Damping::default()).unwrap();
         assert!(rust.added_damping.is_some());
-        assert_eq!((*model).model, rust, "jprom_fe_reduce with a damping matrix");
+        assert_eq!((*model).model, rust, "jprom_fe_model_reduce with a damping matrix");
 
         // Rayleigh + modal ratios + loss factor
         assert_eq!(jprom_model_set_rayleigh_damping(model, 2.0, 1e-8), jprom_status::JPROM_OK);
@@ -142,7 +142,7 @@ fn damping_and_modes_from_c_equal_the_rust_api() {
     }
 }
 
-/// `jprom_fe_fix_dof` and `jprom_fe_reduce_cutoff` equal `FeModel::with_fixed` and a reduction
+/// `jprom_fe_model_fix_dof` and `jprom_fe_model_reduce_cutoff` equal `FeModel::with_fixed` and a reduction
 /// with `cb_cutoff_hz`; a placed node's translation cannot be fixed; bad cut-offs are refused.
 #[test]
 fn fixed_dofs_and_cutoff_from_c_equal_the_rust_api() {
@@ -150,31 +150,31 @@ fn fixed_dofs_and_cutoff_from_c_equal_the_rust_api() {
         let mut fe = null_mut();
         assert_eq!(jprom_fe_model_load_calculix(block_inp().as_ptr(), &mut fe), jprom_status::JPROM_OK, "{}", message());
         let rust_fe = FeModel::from_calculix(&read_model(std::path::Path::new(block_inp().to_str().unwrap())).unwrap()).unwrap();
-        let out_node = (&(*fe).sets)["OUT"][0];
-        let load = (&(*fe).sets)["LOAD"][0];
+        let out_node = (*fe).fe.node_set("OUT").unwrap()[0];
+        let load = (*fe).fe.node_set("LOAD").unwrap()[0];
         for d in 0..3 {
-            assert_eq!(jprom_fe_fix_dof(fe, out_node, d), jprom_status::JPROM_OK, "{}", message());
+            assert_eq!(jprom_fe_model_fix_dof(fe, out_node, d), jprom_status::JPROM_OK, "{}", message());
         }
         let mut n = 0usize;
         assert_eq!(jprom_fe_model_n_dof(fe, &mut n), jprom_status::JPROM_OK);
         assert_eq!(n, rust_fe.n_dof() - 3);
-        assert_eq!(jprom_fe_fix_dof(fe, out_node, 1), jprom_status::JPROM_INVALID_VALUE, "fixed twice");
+        assert_eq!(jprom_fe_model_fix_dof(fe, out_node, 1), jprom_status::JPROM_INVALID_VALUE, "fixed twice");
         assert!(message().contains(&format!("node {out_node}")), "{}", message());
-        assert_eq!(jprom_fe_fix_dof(fe, 99999, 0), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_fix_dof(fe, load, 6), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_add_force(fe, load, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
-        assert_eq!(jprom_fe_fix_dof(fe, load, 1), jprom_status::JPROM_INVALID_VALUE, "a loaded node keeps its translations");
+        assert_eq!(jprom_fe_model_fix_dof(fe, 99999, 0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_fix_dof(fe, load, 6), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_force(fe, load, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_fix_dof(fe, load, 1), jprom_status::JPROM_INVALID_VALUE, "a loaded node keeps its translations");
         assert!(message().contains("cannot be fixed"), "{}", message());
 
         let fixed = rust_fe.with_fixed(&[(out_node, 0), (out_node, 1), (out_node, 2)]).unwrap();
         let spec = jprom::fe::Reduction { cb_modes: 40, cb_cutoff_hz: Some(30_000.0), ..(*fe).spec.clone() };
         let rust = fixed.reduce(&spec, Damping::default()).unwrap();
         let mut model = null_mut();
-        assert_eq!(jprom_fe_reduce_cutoff(fe, 30_000.0, 40, &mut model), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_model_reduce_cutoff(fe, 30_000.0, 40, &mut model), jprom_status::JPROM_OK, "{}", message());
         assert_eq!((*model).model, rust);
         assert!(rust.n_dof() < 3 + 40, "the cut-off keeps fewer than the cap");
-        assert_eq!(jprom_fe_reduce_cutoff(fe, f64::NAN, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_reduce_cutoff(fe, -5.0, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_reduce_cutoff(fe, f64::NAN, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_reduce_cutoff(fe, -5.0, 40, &mut model), jprom_status::JPROM_INVALID_VALUE);
         assert!(message().contains("cut-off"), "{}", message());
         assert_eq!(jprom_model_free(model), jprom_status::JPROM_OK);
         assert_eq!(jprom_fe_model_free(fe), jprom_status::JPROM_OK);

@@ -65,11 +65,11 @@ fn fe_model_from_c_equals_the_rust_reduction() {
     unsafe {
         let fe = new_fe();
         let frame: Vec<f64> = IDENTITY_FRAME.iter().flatten().copied().collect();
-        assert_eq!(jprom_fe_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
-        assert_eq!(jprom_fe_add_force(fe, 102, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
-        assert_eq!(jprom_fe_add_output(fe, 103, 1), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_force(fe, 102, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_output(fe, 103, 1), jprom_status::JPROM_OK);
         let mut model = null_mut();
-        assert_eq!(jprom_fe_reduce(fe, 2, &mut model), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_model_reduce(fe, 2, &mut model), jprom_status::JPROM_OK, "{}", message());
         let from_c = &(*model).model;
 
         let (n, kc, kr, kv, _, _, _, ids, _) = chain();
@@ -101,6 +101,37 @@ fn fe_model_from_c_equals_the_rust_reduction() {
     }
 }
 
+/// The names deprecated in 0.3 (`jprom_fe_add_contact`, ...) still work and give the same
+/// reduced model as the `jprom_fe_model_*` names.
+#[test]
+#[allow(deprecated)]
+fn deprecated_fe_names_forward_to_the_new_ones() {
+    unsafe {
+        let frame: Vec<f64> = IDENTITY_FRAME.iter().flatten().copied().collect();
+        let (old, new) = (new_fe(), new_fe());
+        assert_eq!(jprom_fe_fix_dof(old, 101, 3), jprom_status::JPROM_INVALID_VALUE, "node 101 has no rx: {}", message());
+        assert_eq!(jprom_fe_add_contact(old, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_add_force(old, 102, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_add_output(old, 103, 1), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_keep_node(old, 999), jprom_status::JPROM_INVALID_VALUE, "no node 999: {}", message());
+        assert_eq!(jprom_fe_model_add_contact(new, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_force(new, 102, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_output(new, 103, 1), jprom_status::JPROM_OK);
+        let (mut a, mut b, mut c, mut d) = (null_mut(), null_mut(), null_mut(), null_mut());
+        assert_eq!(jprom_fe_reduce(old, 2, &mut a), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_model_reduce(new, 2, &mut b), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_reduce_cutoff(old, 1e9, 2, &mut c), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_fe_model_reduce_cutoff(new, 1e9, 2, &mut d), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!((*a).model, (*b).model);
+        assert_eq!((*c).model, (*d).model);
+        for m in [a, b, c, d] {
+            assert_eq!(jprom_model_free(m), jprom_status::JPROM_OK);
+        }
+        assert_eq!(jprom_fe_model_free(old), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_free(new), jprom_status::JPROM_OK);
+    }
+}
+
 #[test]
 fn fe_functions_refuse_bad_input_with_a_reason() {
     unsafe {
@@ -108,34 +139,34 @@ fn fe_functions_refuse_bad_input_with_a_reason() {
         let frame: Vec<f64> = IDENTITY_FRAME.iter().flatten().copied().collect();
         let f = [0.0, 1.0, 0.0];
         // unknown node ids, named
-        assert_eq!(jprom_fe_add_contact(fe, 999, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_contact(fe, 999, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
         assert!(message().contains("node 999"), "{}", message());
-        assert_eq!(jprom_fe_add_force(fe, 998, 1, f.as_ptr()), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_force(fe, 998, 1, f.as_ptr()), jprom_status::JPROM_INVALID_VALUE);
         assert!(message().contains("node 998"), "{}", message());
-        assert_eq!(jprom_fe_add_output(fe, 997, 0), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_keep_node(fe, 996), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_output(fe, 997, 0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_keep_node(fe, 996), jprom_status::JPROM_INVALID_VALUE);
         // bad values
-        assert_eq!(jprom_fe_add_contact(fe, 104, frame.as_ptr(), -1.0, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_add_force(fe, 102, 2, f.as_ptr()), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_contact(fe, 104, frame.as_ptr(), -1.0, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_force(fe, 102, 2, f.as_ptr()), jprom_status::JPROM_INVALID_VALUE);
         assert!(message().contains("harmonic 2"), "{}", message());
-        assert_eq!(jprom_fe_add_force(fe, 102, 1, [f64::NAN, 0.0, 0.0].as_ptr()), jprom_status::JPROM_INVALID_VALUE);
-        assert_eq!(jprom_fe_add_output(fe, 103, 3), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_force(fe, 102, 1, [f64::NAN, 0.0, 0.0].as_ptr()), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_output(fe, 103, 3), jprom_status::JPROM_INVALID_VALUE);
         // a contact node twice
-        assert_eq!(jprom_fe_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
-        assert_eq!(jprom_fe_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_fe_model_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_INVALID_VALUE);
         // NULL arguments
-        assert_eq!(jprom_fe_add_contact(fe, 103, null(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_NULL_ARGUMENT);
-        assert_eq!(jprom_fe_add_force(fe, 102, 1, null()), jprom_status::JPROM_NULL_ARGUMENT);
-        assert_eq!(jprom_fe_reduce(fe, 2, null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
+        assert_eq!(jprom_fe_model_add_contact(fe, 103, null(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_NULL_ARGUMENT);
+        assert_eq!(jprom_fe_model_add_force(fe, 102, 1, null()), jprom_status::JPROM_NULL_ARGUMENT);
+        assert_eq!(jprom_fe_model_reduce(fe, 2, null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
         let mut count = 7usize;
         assert_eq!(jprom_fe_model_node_set(fe, null(), null_mut(), 0, &mut count), jprom_status::JPROM_NULL_ARGUMENT);
         // a model from matrices has no node sets; the message says which there are
         let name = CString::new("tip").unwrap();
         assert_eq!(jprom_fe_model_node_set(fe, name.as_ptr(), null_mut(), 0, &mut count), jprom_status::JPROM_INVALID_VALUE);
-        assert!(message().contains("no node set 'TIP'") && message().contains("none"), "{}", message());
+        assert!(message().contains("node set 'tip'") && message().contains("no such set") && message().contains("none"), "{}", message());
         // a model handle is not an FE model
         let mut model = null_mut();
-        assert_eq!(jprom_fe_reduce(fe, 2, &mut model), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_reduce(fe, 2, &mut model), jprom_status::JPROM_OK);
         assert_eq!(jprom_fe_model_free(model as *mut jprom_fe_model), jprom_status::JPROM_INVALID_HANDLE);
         assert_eq!(jprom_model_free(model), jprom_status::JPROM_OK);
         assert_eq!(jprom_fe_model_free(fe), jprom_status::JPROM_OK);

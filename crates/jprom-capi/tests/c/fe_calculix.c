@@ -35,13 +35,13 @@ int main(int argc, char **argv) {
     TRY(jprom_fe_model_node_set(fe, "LOAD", &load, 1, NULL));
     /* the casing is beyond the tip along x: normal x, tangents y and z */
     const double frame[9] = {0, 1, 0, 0, 0, 1, 1, 0, 0};
-    for (size_t i = 0; i < n_tip; ++i) TRY(jprom_fe_add_contact(fe, tip[i], frame, kt, kt, kn, mu, n0));
+    for (size_t i = 0; i < n_tip; ++i) TRY(jprom_fe_model_add_contact(fe, tip[i], frame, kt, kt, kn, mu, n0));
     const double f_y[3] = {0.0, 1.0, 0.0};
-    TRY(jprom_fe_add_force(fe, load, 1, f_y));
-    for (size_t i = 0; i < n_out; ++i) TRY(jprom_fe_add_output(fe, out_nodes[i], 1));
+    TRY(jprom_fe_model_add_force(fe, load, 1, f_y));
+    for (size_t i = 0; i < n_out; ++i) TRY(jprom_fe_model_add_output(fe, out_nodes[i], 1));
 
     jprom_model *model = NULL;
-    TRY(jprom_fe_reduce(fe, cb_modes, &model));
+    TRY(jprom_fe_model_reduce(fe, cb_modes, &model));
     jprom_fe_model_free(fe);
     size_t n_red = 0;
     TRY(jprom_model_n_dof(model, &n_red));

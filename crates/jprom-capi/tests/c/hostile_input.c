@@ -251,8 +251,8 @@ int main(int argc, char **argv) {
         expect(jprom_model_modes(model, 1, hz, force, 6, &count), JPROM_OK, "the stuck modes", NULL);
         check(count == 6 && hz[0] > 0.0 && hz[5] >= hz[0] && force[0] >= 0.0, "six stuck modes, ascending");
         expect(jprom_fe_model_modes(NULL, 3, hz), JPROM_NULL_ARGUMENT, "FE modes of NULL", "fe");
-        expect(jprom_fe_fix_dof(NULL, 1, 0), JPROM_NULL_ARGUMENT, "fix a DoF of NULL", "fe");
-        expect(jprom_fe_reduce_cutoff(NULL, 1000.0, 10, &m2), JPROM_NULL_ARGUMENT, "reduce NULL with a cut-off", "fe");
+        expect(jprom_fe_model_fix_dof(NULL, 1, 0), JPROM_NULL_ARGUMENT, "fix a DoF of NULL", "fe");
+        expect(jprom_fe_model_reduce_cutoff(NULL, 1000.0, 10, &m2), JPROM_NULL_ARGUMENT, "reduce NULL with a cut-off", "fe");
     }
 
     jprom_solution_free(sol);

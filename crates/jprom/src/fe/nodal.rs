@@ -15,7 +15,7 @@ use crate::io::calculix::CalculixModel;
 use crate::io::dof_map::DofMap;
 use crate::linalg::SparseMat;
 use crate::model::{Damping, Model};
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// Directions of a node's DoFs: translations x, y, z (0, 1, 2), rotations (3, 4, 5).
 pub const DIRECTIONS: usize = 6;
@@ -159,6 +159,10 @@ pub struct FeModel {
     damping: Option<SparseMat>,
     nodes: Vec<FeNode>,
     by_id: HashMap<i64, usize>,
+    /// Named node sets (CalculiX `*NSET`s; names upper case, ids sorted) and the file they
+    /// come from, for [`FeModel::node_set`].
+    node_sets: BTreeMap<String, Vec<i64>>,
+    node_sets_source: std::path::PathBuf,
 }
 
 /// A node-to-ground contact on a node (its three translations), in the local frame `frame`
@@ -228,7 +232,7 @@ impl FeModel {
                 owner[r] = Some((node.id, d));
             }
         }
-        Ok(FeModel { stiffness, mass, damping: None, nodes, by_id })
+        Ok(FeModel { stiffness, mass, damping: None, nodes, by_id, node_sets: BTreeMap::new(), node_sets_source: Default::default() })
     }
 
     /// From matrices and a jprom DoF map (three translations per node).
@@ -271,7 +275,24 @@ impl FeModel {
             })?;
             nodes[i].dofs[d] = Some(row);
         }
-        Self::new(ccx.stiffness.clone(), ccx.mass.clone(), nodes)
+        let mut fe = Self::new(ccx.stiffness.clone(), ccx.mass.clone(), nodes)?;
+        fe.node_sets = ccx.node_sets.clone();
+        fe.node_sets_source = ccx.inp.clone();
+        Ok(fe)
+    }
+
+    /// The node ids of node set `name` (case-insensitive; the CalculiX deck's `*NSET`s, none
+    /// for a model from matrices), sorted.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the sets the model has if there is no such set.
+    pub fn node_set(&self, name: &str) -> Result<&[i64]> {
+        crate::io::calculix::node_set_of(&self.node_sets, name, &self.node_sets_source)
+    }
+
+    /// All node sets, upper-case names to sorted node ids.
+    pub fn node_sets(&self) -> &BTreeMap<String, Vec<i64>> {
+        &self.node_sets
     }
 
     /// Number of DoFs.
@@ -356,6 +377,8 @@ impl FeModel {
             .collect();
         let mut out = FeModel::new(sub(&self.stiffness), sub(&self.mass), nodes)?;
         out.damping = self.damping.as_ref().map(sub);
+        out.node_sets = self.node_sets.clone();
+        out.node_sets_source = self.node_sets_source.clone();
         Ok(out)
     }
 

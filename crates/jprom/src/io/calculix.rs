@@ -100,7 +100,7 @@ pub struct CalculixModel {
     /// Row of each DoF (the inverse of `dofs`).
     rows: BTreeMap<Dof, usize>,
     /// The deck, for messages.
-    inp: PathBuf,
+    pub(crate) inp: PathBuf,
 }
 
 impl CalculixModel {
@@ -164,14 +164,20 @@ impl CalculixMesh {
     }
 }
 
-fn node_set_of<'a>(sets: &'a BTreeMap<String, Vec<i64>>, name: &str, deck: &Path) -> Result<&'a [i64]> {
+/// The node set `name` of `sets` (case-insensitive), or an error naming the sets there are and
+/// where they come from (`deck`).
+pub(crate) fn node_set_of<'a>(sets: &'a BTreeMap<String, Vec<i64>>, name: &str, deck: &Path) -> Result<&'a [i64]> {
     match sets.get(&name.to_ascii_uppercase()) {
         Some(s) => Ok(s),
         None => {
             let known: Vec<&str> = sets.keys().map(String::as_str).collect();
             Err(JpError::invalid(
                 format!("node set '{name}'"),
-                format!("{} defines no such set (its node sets: {})", deck.display(), if known.is_empty() { "none".to_string() } else { known.join(", ") }),
+                format!(
+                    "{} defines no such set (its node sets: {})",
+                    if deck.as_os_str().is_empty() { "the model".to_string() } else { deck.display().to_string() },
+                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                ),
             ))
         }
     }
