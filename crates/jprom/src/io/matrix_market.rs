@@ -17,7 +17,7 @@
 //! Every malformed file gives [`JpError::Parse`] with the 1-based line number and the reason;
 //! nothing panics on bad input.
 
-use crate::linalg::sparse::{sparse_from_triplets, sparse_triplets, SparseMat};
+use crate::linalg::sparse::{sparse_triplets, SparseMat};
 use crate::error::{JpError, Result};
 use crate::linalg::SYMMETRY_TOLERANCE;
 use std::path::Path;
@@ -136,36 +136,12 @@ fn parse_with_symmetry(text: &str, name: &str, structural: bool) -> Result<(Spar
         if !is_data(l) {
             continue;
         }
-        let f: Vec<&str> = l.split_whitespace().collect();
-        if f.len() != 3 {
-            return Err(perr(name, ln, format!("size line must have 3 integers (rows cols entries), got {} fields", f.len())));
-        }
-        let mut v = [0usize; 3];
-        for k in 0..3 {
-            v[k] = f[k].parse().map_err(|_| perr(name, ln, format!("size line: '{}' is not a non-negative integer", f[k])))?;
-        }
-        if symmetric && v[0] != v[1] {
-            return Err(perr(name, ln, format!("symmetric matrix must be square, got {} x {}", v[0], v[1])));
-        }
+        let v = parse_size_line(l, name, ln, symmetric)?;
         size = Some((v[0], v[1], v[2], ln));
         break;
     }
     let (nrows, ncols, nnz, size_line) = size.ok_or_else(|| perr(name, last_line + 1, "missing size line (rows cols entries)"))?;
-    if nnz as u128 > crate::memory::product(&[nrows, ncols]) {
-        return Err(perr(name, size_line, format!("wrong counts: {nnz} entries cannot fit in {nrows} x {ncols}")));
-    }
-    if structural {
-        if nrows != ncols {
-            return Err(perr(name, size_line, format!("a mass or stiffness matrix must be square, got {nrows} x {ncols}")));
-        }
-        if nnz < nrows {
-            return Err(perr(
-                name,
-                size_line,
-                format!("{nrows} x {ncols} with {nnz} entries: a mass or stiffness matrix needs at least one entry per row (its diagonal), so at least {nrows}"),
-            ));
-        }
-    }
+    check_counts(name, size_line, [nrows, ncols, nnz], structural)?;
     drop(lines);
     let body = &text[consumed..];
     let chunks = entries::parse_chunks(body, nrows, ncols, symmetric);
@@ -222,35 +198,21 @@ fn parse_with_symmetry(text: &str, name: &str, structural: bool) -> Result<(Spar
 /// A square matrix must equal its transpose to [`SYMMETRY_TOLERANCE`] times its largest
 /// entry; else the first (by column) offending pair is named, 1-based.
 fn check_symmetric(a: &SparseMat, name: &str) -> Result<()> {
-    let tr = sparse_triplets(a);
-    let max = tr.iter().fold(0.0f64, |m, t| m.max(t.2.abs()));
-    let tol = SYMMETRY_TOLERANCE * max;
-    let at = sparse_from_triplets(a.ncols(), a.nrows(), tr.iter().map(|&(i, j, v)| (j, i, v)).collect())?;
-    let value = |m: &SparseMat, i: usize, j: usize| -> f64 {
-        let m = m.as_ref();
-        let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
-        (cp[j]..cp[j + 1]).find(|&k| ri[k] == i).map_or(0.0, |k| v[k])
-    };
-    for &(i, j, v) in &tr {
-        let w = value(&at, i, j); // = a(j, i)
-        if (v - w).abs() > tol {
-            return Err(perr(
-                name,
-                0,
-                format!(
-                    "used as symmetric but not symmetric: entry ({}, {}) = {v:e} while ({}, {}) = {w:e}{} (relative tolerance {SYMMETRY_TOLERANCE:e})",
-                    i + 1,
-                    j + 1,
-                    j + 1,
-                    i + 1,
-                    if w == 0.0 { " (not given)" } else { "" }
-                ),
-            ));
-        }
+    match crate::linalg::sparse::first_asymmetry(a, SYMMETRY_TOLERANCE) {
+        None => Ok(()),
+        Some((i, j, v, w)) => Err(perr(
+            name,
+            0,
+            format!(
+                "used as symmetric but not symmetric: entry ({}, {}) = {v:e} while ({}, {}) = {w:e}{} (relative tolerance {SYMMETRY_TOLERANCE:e})",
+                i + 1,
+                j + 1,
+                j + 1,
+                i + 1,
+                if w == 0.0 { " (not given)" } else { "" }
+            ),
+        )),
     }
-    // entries present only in the transpose are covered: (i, j) missing means a(j, i) != 0 is
-    // met as its own triplet above, against a(i, j) = 0
-    Ok(())
 }
 
 /// Formats a matrix as Matrix Market text. With `symmetric`, only the lower triangle is
@@ -388,29 +350,47 @@ pub fn read_matrix_market_header(path: &Path, structural: bool) -> Result<Matrix
         return Err(perr(&name, 1, reason));
     }
     let (size_ln, size) = size_line.ok_or_else(|| perr(&name, ln + 1, "missing size line (rows cols entries)"))?;
-    let f: Vec<&str> = size.split_whitespace().collect();
+    let symmetric = symmetric_header(&text);
+    let [rows, cols, entries] = parse_size_line(&size, &name, size_ln, symmetric)?;
+    check_counts(&name, size_ln, [rows, cols, entries], structural)?;
+    Ok(MatrixMarketHeader { rows, cols, entries, symmetric, file_bytes: meta.len() })
+}
+
+/// The size line `rows cols entries` at line `ln` (a symmetric matrix must be square).
+fn parse_size_line(l: &str, name: &str, ln: usize, symmetric: bool) -> Result<[usize; 3]> {
+    let f: Vec<&str> = l.split_whitespace().collect();
     if f.len() != 3 {
-        return Err(perr(&name, size_ln, format!("size line must have 3 integers (rows cols entries), got {} fields", f.len())));
+        return Err(perr(name, ln, format!("size line must have 3 integers (rows cols entries), got {} fields", f.len())));
     }
     let mut v = [0usize; 3];
     for k in 0..3 {
-        v[k] = f[k].parse().map_err(|_| perr(&name, size_ln, format!("size line: '{}' is not a non-negative integer", f[k])))?;
+        v[k] = f[k].parse().map_err(|_| perr(name, ln, format!("size line: '{}' is not a non-negative integer", f[k])))?;
     }
-    if symmetric_header(&text) && v[0] != v[1] {
-        return Err(perr(&name, size_ln, format!("symmetric matrix must be square, got {} x {}", v[0], v[1])));
+    if symmetric && v[0] != v[1] {
+        return Err(perr(name, ln, format!("symmetric matrix must be square, got {} x {}", v[0], v[1])));
     }
-    let symmetric = symmetric_header(&text);
-    let (rows, cols, entries) = (v[0], v[1], v[2]);
-    if entries as u128 > crate::memory::product(&[rows, cols]) {
-        return Err(perr(&name, size_ln, format!("wrong counts: {entries} entries cannot fit in {rows} x {cols}")));
+    Ok(v)
+}
+
+/// The declared counts: entries that fit in `rows x cols`, and for a `structural` matrix (a
+/// mass or stiffness) a square one with at least its diagonal.
+fn check_counts(name: &str, ln: usize, [nrows, ncols, nnz]: [usize; 3], structural: bool) -> Result<()> {
+    if nnz as u128 > crate::memory::product(&[nrows, ncols]) {
+        return Err(perr(name, ln, format!("wrong counts: {nnz} entries cannot fit in {nrows} x {ncols}")));
     }
-    if structural && rows != cols {
-        return Err(perr(&name, size_ln, format!("a mass or stiffness matrix must be square, got {rows} x {cols}")));
+    if structural {
+        if nrows != ncols {
+            return Err(perr(name, ln, format!("a mass or stiffness matrix must be square, got {nrows} x {ncols}")));
+        }
+        if nnz < nrows {
+            return Err(perr(
+                name,
+                ln,
+                format!("{nrows} x {ncols} with {nnz} entries: a mass or stiffness matrix needs at least one entry per row (its diagonal), so at least {nrows}"),
+            ));
+        }
     }
-    if structural && entries < rows {
-        return Err(perr(&name, size_ln, format!("{rows} x {cols} with {entries} entries: a mass or stiffness matrix needs at least one entry per row (its diagonal), so at least {rows}")));
-    }
-    Ok(MatrixMarketHeader { rows, cols, entries, symmetric, file_bytes: meta.len() })
+    Ok(())
 }
 
 fn symmetric_header(header: &str) -> bool {
