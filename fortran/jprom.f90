@@ -283,6 +283,25 @@ module jprom_c
       type(c_ptr), value :: user_data
       type(c_ptr), intent(out) :: out
     end function
+    integer(c_int) function jprom_solve_point_from(model, omega, opts, guess, out) bind(C, name="jprom_solve_point_from")
+      import :: c_int, c_ptr, c_double, jprom_hbm_options
+      type(c_ptr), value :: model
+      real(c_double), value :: omega
+      type(jprom_hbm_options), intent(in) :: opts
+      type(c_ptr), value :: guess
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_from(model, opts, sweep_opts, start, callback, user_data, out) &
+        bind(C, name="jprom_sweep_from")
+      import :: c_int, c_ptr, c_funptr, jprom_hbm_options, jprom_sweep_options
+      type(c_ptr), value :: model
+      type(jprom_hbm_options), intent(in) :: opts
+      type(jprom_sweep_options), intent(in) :: sweep_opts
+      type(c_ptr), value :: start
+      type(c_funptr), value :: callback
+      type(c_ptr), value :: user_data
+      type(c_ptr), intent(out) :: out
+    end function
     integer(c_int) function jprom_solution_free(solution) bind(C, name="jprom_solution_free")
       import :: c_int, c_ptr
       type(c_ptr), value :: solution
@@ -686,10 +705,10 @@ module jprom
   ! options
   public :: jp_default_options, jp_default_jp_options
   ! solutions and sweeps
-  public :: jp_solve_point, jp_solution_free, jp_solution_omega, jp_solution_sizes, jp_solution_coeffs, &
+  public :: jp_solve_point, jp_solve_point_from, jp_solution_free, jp_solution_omega, jp_solution_sizes, jp_solution_coeffs, &
             jp_solution_amplitude, jp_solution_convergence, jp_solution_energy, jp_solution_n_samples, &
             jp_solution_contact_states, jp_solution_save, jp_solution_load
-  public :: jp_sweep, jp_sweep_free, jp_sweep_n_points, jp_sweep_end, jp_sweep_end_name, jp_sweep_reached_end, &
+  public :: jp_sweep, jp_sweep_from, jp_sweep_free, jp_sweep_n_points, jp_sweep_end, jp_sweep_end_name, jp_sweep_reached_end, &
             jp_sweep_point, jp_sweep_point_coeffs, jp_sweep_point_energy, jp_sweep_point_convergence, &
             jp_sweep_solution, jp_sweep_save, jp_sweep_load
   ! JP reduction
@@ -1091,6 +1110,20 @@ contains
     jp_solve_point = finish(jprom_solve_point(model, omega, opts, solution), message)
   end function
 
+  !> The full-order solution at omega from the solution guess (c_null_ptr: from zero), for
+  !> example the nearest point of a sweep; guess must come from a full-order solve with the
+  !> same opts%condensed (its harmonics may differ).
+  integer function jp_solve_point_from(model, omega, opts, guess, solution, message)
+    use jprom_c, only: jprom_solve_point_from
+    type(c_ptr), intent(in) :: model
+    real(c_double), intent(in) :: omega
+    type(jprom_hbm_options), intent(in) :: opts
+    type(c_ptr), intent(in) :: guess
+    type(c_ptr), intent(out) :: solution
+    character(len=*), intent(out), optional :: message
+    jp_solve_point_from = finish(jprom_solve_point_from(model, omega, opts, guess, solution), message)
+  end function
+
   integer function jp_solution_free(solution)
     use jprom_c, only: jprom_solution_free
     type(c_ptr), intent(inout) :: solution
@@ -1213,6 +1246,19 @@ contains
     type(c_ptr), intent(out) :: sweep
     character(len=*), intent(out), optional :: message
     jp_sweep = finish(jprom_sweep(model, opts, sweep_opts, c_null_funptr, c_null_ptr, sweep), message)
+  end function
+
+  !> As jp_sweep, with the first point (at sweep_opts%omega_start) solved from the solution
+  !> start (c_null_ptr: from zero): restarts a sweep from one of its points.
+  integer function jp_sweep_from(model, opts, sweep_opts, start, sweep, message)
+    use jprom_c, only: jprom_sweep_from
+    type(c_ptr), intent(in) :: model
+    type(jprom_hbm_options), intent(in) :: opts
+    type(jprom_sweep_options), intent(in) :: sweep_opts
+    type(c_ptr), intent(in) :: start
+    type(c_ptr), intent(out) :: sweep
+    character(len=*), intent(out), optional :: message
+    jp_sweep_from = finish(jprom_sweep_from(model, opts, sweep_opts, start, c_null_funptr, c_null_ptr, sweep), message)
   end function
 
   integer function jp_sweep_free(sweep)

@@ -702,6 +702,32 @@ jprom_status jprom_solve_point(const jprom_model *model,
                                const jprom_hbm_options *options,
                                jprom_solution **out);
 
+// Solves one frequency point `omega` (rad/s) from the solution `guess` (for example the
+// nearest point of a sweep, or a solution at a lower excitation level), or from zero when
+// `guess` is NULL (then as `jprom_solve_point`). `guess` must come from a full-order solve
+// with the same `condensed` setting and model size (`JPROM_BAD_SIZE` otherwise; a reduced-order
+// solution is `JPROM_INVALID_VALUE`); its `H` may differ (missing harmonics start at zero).
+// If Newton fails from the guess, the load-stepping fallback runs as from zero; all
+// attempts together stay within `options.max_iterations`. `JPROM_NO_CONVERGENCE` if no
+// attempt converges (`*out` is not written then). `guess` is only read.
+jprom_status jprom_solve_point_from(const jprom_model *model,
+                                    double omega,
+                                    const jprom_hbm_options *options,
+                                    const jprom_solution *guess,
+                                    jprom_solution **out);
+
+// `jprom_sweep` whose first point, at `sweep_opts.omega_start`, is solved from the solution
+// `start` instead of from zero: to restart a sweep from one of its points (pass that point's
+// frequency as `omega_start`), or to follow another branch. NULL `start` is `jprom_sweep`.
+// `start` is checked as the `guess` of `jprom_solve_point_from` and only read.
+jprom_status jprom_sweep_from(const jprom_model *model,
+                              const jprom_hbm_options *options,
+                              const jprom_sweep_options *sweep_opts,
+                              const jprom_solution *start,
+                              jprom_progress_fn callback,
+                              void *user_data,
+                              jprom_sweep_result **out);
+
 // Sweeps `[omega_start, omega_end]` by pseudo-arclength continuation.
 //
 // `callback` may be NULL. If it returns nonzero the sweep stops there: the call returns

@@ -274,6 +274,95 @@ pub unsafe extern "C" fn jprom_solve_point(
     })
 }
 
+/// The unknowns `z` of `guess` laid out for `sys`: a full-order solution (`jprom_solve_point`,
+/// `jprom_sweep`, or loaded from a file) of a system with the same unknowns per harmonic; a
+/// different `H` is fine (missing harmonics start at zero, extra ones are dropped).
+unsafe fn guess_for(sys: &dyn HarmonicSystem, guess: *const jprom_solution, name: &str) -> Result<Vec<f64>, FfiError> {
+    let g = handle::get(guess, name)?;
+    if g.origin == Origin::Reduced {
+        return Err(FfiError::new(
+            JPROM_INVALID_VALUE,
+            format!("'{name}' is a reduced-order solution (its unknowns are the ROM's); pass a full-order one (jprom_solve_point, jprom_sweep)"),
+        ));
+    }
+    let (have, want) = (&g.point.layout, sys.layout());
+    let n = want.size(0);
+    let uniform = |l: &hbm::HarmonicLayout| l.sizes.iter().all(|&s| s == l.size(0));
+    if have.size(0) != n || !uniform(have) || !uniform(want) || g.point.z.len() != have.total() {
+        return Err(FfiError::new(
+            JPROM_BAD_SIZE,
+            format!(
+                "'{name}' has {} unknowns per harmonic, this solve {n} (a condensed solve has the contact coordinates as unknowns, a full one all DoFs: use the same `condensed` and model)",
+                have.size(0)
+            ),
+        ));
+    }
+    let mut z = vec![0.0; want.total()];
+    for k in 0..(2 * have.harmonics.min(want.harmonics) + 1) {
+        let (src, _) = have.coeff_range(k);
+        let (dst, _) = want.coeff_range(k);
+        z[dst..dst + n].copy_from_slice(&g.point.z[src..src + n]);
+    }
+    Ok(z)
+}
+
+/// Solves one frequency point `omega` (rad/s) from the solution `guess` (for example the
+/// nearest point of a sweep, or a solution at a lower excitation level), or from zero when
+/// `guess` is NULL (then as `jprom_solve_point`). `guess` must come from a full-order solve
+/// with the same `condensed` setting and model size (`JPROM_BAD_SIZE` otherwise; a reduced-order
+/// solution is `JPROM_INVALID_VALUE`); its `H` may differ (missing harmonics start at zero).
+/// If Newton fails from the guess, the load-stepping fallback runs as from zero; all
+/// attempts together stay within `options.max_iterations`. `JPROM_NO_CONVERGENCE` if no
+/// attempt converges (`*out` is not written then). `guess` is only read.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_solve_point_from(
+    model: *const jprom_model,
+    omega: f64,
+    options: *const jprom_hbm_options,
+    guess: *const jprom_solution,
+    out: *mut *mut jprom_solution,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let (opts, o) = hbm_options(options)?;
+        let out = out_arg(out, "out")?;
+        let omega = finite_arg("omega", omega)?;
+        let sys = system(m, &opts, o.condensed)?;
+        let z = if guess.is_null() { None } else { Some(guess_for(sys.as_ref(), guess, "guess")?) };
+        let point = hbm::solve_point(sys.as_ref(), omega, z.as_deref(), &opts)?;
+        *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::FullOrder });
+        Ok(())
+    })
+}
+
+/// `jprom_sweep` whose first point, at `sweep_opts.omega_start`, is solved from the solution
+/// `start` instead of from zero: to restart a sweep from one of its points (pass that point's
+/// frequency as `omega_start`), or to follow another branch. NULL `start` is `jprom_sweep`.
+/// `start` is checked as the `guess` of `jprom_solve_point_from` and only read.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_from(
+    model: *const jprom_model,
+    options: *const jprom_hbm_options,
+    sweep_opts: *const jprom_sweep_options,
+    start: *const jprom_solution,
+    callback: jprom_progress_fn,
+    user_data: *mut c_void,
+    out: *mut *mut jprom_sweep_result,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get(model, "model")?;
+        let (opts, o) = hbm_options(options)?;
+        let sopts = sweep_options(sweep_opts)?;
+        let out = out_arg(out, "out")?;
+        let sys = system(m, &opts, o.condensed)?;
+        let z = if start.is_null() { None } else { Some(guess_for(sys.as_ref(), start, "start")?) };
+        let mut on_point = progress_adapter(callback, user_data);
+        let result = hbm::sweep_from(sys.as_ref(), &sopts, &opts, z.as_deref(), &mut on_point)?;
+        *out = jprom_sweep_result::wrap(SweepRecord::full_order(result), Origin::FullOrder);
+        Ok(())
+    })
+}
+
 /// Sweeps `[omega_start, omega_end]` by pseudo-arclength continuation.
 ///
 /// `callback` may be NULL. If it returns nonzero the sweep stops there: the call returns

@@ -9,4 +9,5 @@ mod ffi_fe;
 mod ffi_files;
 mod ffi_hardening;
 mod ffi_rom;
+mod ffi_solve_from;
 mod ffi_threads;
