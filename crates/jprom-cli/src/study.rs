@@ -819,16 +819,12 @@ impl DampingSpec {
     /// `centre_rad_s`), modal ratios (added to an FE damping matrix already there), loss factor.
     ///
     /// # Errors
-    /// [`jprom::model::Model::set_modal_damping`]'s and validation errors.
+    /// [`jprom::model::Model::add_modal_damping`]'s and validation errors.
     pub fn apply(&self, model: &mut jprom::model::Model, centre_rad_s: f64) -> Result<()> {
         let from_ratio = self.ratio_at_centre.map(|z| jprom::model::Damping::from_modal_ratio(z, centre_rad_s)).unwrap_or_default();
         model.damping = jprom::model::Damping { mass_coeff: self.alpha + from_ratio.mass_coeff, stiffness_coeff: self.beta + from_ratio.stiffness_coeff };
         if !self.modal_ratios.is_empty() || self.modal_others > 0.0 {
-            let fe_part = model.added_damping.take();
-            model.set_modal_damping(&self.modal_ratios, self.modal_others)?;
-            if let (Some(c), Some(fe)) = (model.added_damping.as_mut(), fe_part) {
-                *c += fe;
-            }
+            model.add_modal_damping(&self.modal_ratios, self.modal_others)?;
         }
         model.loss_factor = self.loss_factor;
         model.validate()

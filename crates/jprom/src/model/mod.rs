@@ -274,13 +274,37 @@ impl Model {
     /// no contact springs): `C_modal = M Phi diag(2 zeta_r omega_r) Phi^T M` with mass-normalised
     /// `Phi`, so that mode `r` alone has damping ratio `zeta_r`. `ratios[r]` is the ratio of the
     /// `r`-th mode counted from the lowest (rigid-body modes included; they get no damping since
-    /// `omega_r = 0`), `others` the ratio of every mode after the list. Replaces any added matrix;
-    /// keep `alpha`, `beta` at 0 for pure modal damping.
+    /// `omega_r = 0`), `others` the ratio of every mode after the list. Replaces any added matrix
+    /// ([`Model::add_modal_damping`] adds to it); keep `alpha`, `beta` at 0 for pure modal
+    /// damping.
     ///
     /// # Errors
     /// [`JpError::InvalidValue`] for a ratio that is not finite and `>= 0`; the eigensolver's
-    /// errors (a mass matrix that is not positive definite).
+    /// errors (a mass matrix that is not positive definite). The model is unchanged on error.
     pub fn set_modal_damping(&mut self, ratios: &[f64], others: f64) -> Result<()> {
+        let c = self.modal_damping_matrix(ratios, others)?;
+        self.added_damping = Some(c);
+        Ok(())
+    }
+
+    /// As [`Model::set_modal_damping`], but adds `C_modal` to the added damping already there
+    /// (for example an FE code's reduced `C`).
+    ///
+    /// # Errors
+    /// As [`Model::set_modal_damping`]; the model is unchanged on error.
+    pub fn add_modal_damping(&mut self, ratios: &[f64], others: f64) -> Result<()> {
+        let c = self.modal_damping_matrix(ratios, others)?;
+        match self.added_damping.as_mut() {
+            Some(a) if a.nrows() == c.nrows() && a.ncols() == c.ncols() => *a += &c,
+            Some(a) => return Err(JpError::bad_size("added damping matrix (rows x cols)", c.nrows() * c.ncols(), a.nrows() * a.ncols())),
+            None => self.added_damping = Some(c),
+        }
+        Ok(())
+    }
+
+    /// `C_modal = M Phi diag(2 zeta_r omega_r) Phi^T M` on the free modes (see
+    /// [`Model::set_modal_damping`]), symmetrised.
+    fn modal_damping_matrix(&self, ratios: &[f64], others: f64) -> Result<Mat<f64>> {
         for (r, &z) in ratios.iter().enumerate() {
             if !(z.is_finite() && z >= 0.0) {
                 return Err(JpError::invalid(format!("modal damping ratio {r}"), format!("must be finite and >= 0, got {z}")));
@@ -299,8 +323,7 @@ impl Model {
             m_phi[(i, r)] * 2.0 * zeta * omega
         });
         let c = &scaled * m_phi.transpose();
-        self.added_damping = Some(Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)])));
-        Ok(())
+        Ok(Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)])))
     }
 
     /// Saves as JSON (serde; the format is versioned by [`crate::io::FORMAT_VERSION`]).
