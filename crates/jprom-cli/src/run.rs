@@ -64,6 +64,8 @@ pub struct SolverRow {
     /// Why the sweep ended (`reached_end`, `stalled`, `point_cap`, `left_band`, `cancelled`),
     /// and whether it covered the band.
     pub end: String,
+    /// Why the sweep ended, in words (`reached the band's end`, or why and where it stopped).
+    pub end_reason: String,
     pub complete: bool,
     /// What the reader of this row must know: an incomplete sweep (with where and why), a peak
     /// on the band's edge, a level at which every contact sticks, errors taken against an
@@ -152,6 +154,10 @@ pub struct RunSummary {
     /// What the reader of the whole study must know (the band holds no stuck mode).
     pub warnings: Vec<String>,
     pub build_seconds: f64,
+    /// Units of the CSV headers and amplitudes: `mm` and `mj` for the built-in blade, `lu` (the
+    /// FE model's length unit) and `flu` (its force unit times `lu`) for an FE model.
+    pub length_unit: String,
+    pub energy_unit: String,
     pub rows: Vec<SolverRow>,
     /// The error-vs-basis-size study (`basis.gamma_study`), empty if not asked for.
     pub basis_study: Vec<BasisStudyRow>,
@@ -314,6 +320,7 @@ fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> Solve
         actual_e1: None,
         energy_error: None,
         end: "failed".into(),
+        end_reason: format!("failed: {e}"),
         complete: false,
         warnings: vec![format!("failed: {e}")],
         worst_error: None,
@@ -321,18 +328,43 @@ fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> Solve
 }
 
 /// Warnings about a sweep and its peak `p`: the sweep did not cover the band (why and where),
-/// or the peak is the first or last point in frequency (the resonance may lie outside).
+/// or the peak is the sweep's lowest- or highest-frequency point (the band's edge, or where an
+/// incomplete sweep stopped): then the resonance may lie outside what was swept.
 fn sweep_warnings(res: &SweepResult, p: &PointSolution, band: (f64, f64)) -> Vec<String> {
     let mut w = Vec::new();
     if !res.reached_end() {
         w.push(format!("the sweep did not cover the band: {}", res.failure.clone().unwrap_or_else(|| res.end.name().into())));
     }
-    let (lo, hi) = (band.0.min(band.1), band.0.max(band.1));
-    let edge = 1e-9 * (hi - lo);
-    if (p.omega - lo).abs() <= edge || (p.omega - hi).abs() <= edge {
-        w.push(format!("the peak is on the band edge ({:.3} Hz): the resonance may lie outside the band", p.omega / TWO_PI));
+    if let Some(edge) = peak_on_edge(res, p, band) {
+        w.push(format!("the peak is on {edge} ({:.3} Hz): the resonance may lie outside the swept range", p.omega / TWO_PI));
     }
     w
+}
+
+/// Where the peak `p` lies if it is an end of what the sweep covered: `the band edge` or `the
+/// last point of an incomplete sweep`; `None` for a peak inside.
+fn peak_on_edge(res: &SweepResult, p: &PointSolution, band: (f64, f64)) -> Option<&'static str> {
+    let (lo, hi) = (band.0.min(band.1), band.0.max(band.1));
+    let tol = 1e-9 * (hi - lo);
+    if (p.omega - lo).abs() <= tol || (p.omega - hi).abs() <= tol {
+        return Some("the band edge");
+    }
+    let w_min = res.points.iter().map(|q| q.omega).fold(f64::INFINITY, f64::min);
+    let w_max = res.points.iter().map(|q| q.omega).fold(f64::NEG_INFINITY, f64::max);
+    if p.omega <= w_min + tol || p.omega >= w_max - tol {
+        return Some(if res.reached_end() { "the band edge" } else { "the last point of an incomplete sweep" });
+    }
+    None
+}
+
+/// Why a sweep ended, in words: `reached the band's end`, or the sweep's own account of why and
+/// where it stopped.
+fn end_reason(res: &SweepResult) -> String {
+    if res.reached_end() {
+        "reached the band's end".into()
+    } else {
+        res.failure.clone().unwrap_or_else(|| format!("stopped: {}", res.end.name()))
+    }
 }
 
 fn peak(points: &[PointSolution]) -> Option<&PointSolution> {
@@ -353,29 +385,64 @@ fn state_counts(p: &PointSolution) -> [usize; 3] {
     c
 }
 
-fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> Result<()> {
-    jprom::io::write_file(path, |f| write_csv_rows(f, res, errors))
+/// The units of the CSV headers and the summary: (length, energy). The built-in blade is in
+/// mm, tonne, s (N, MPa): lengths in mm, energies in mJ (N mm). An FE model's units are its
+/// FE code's: `lu` is its length unit, `flu` its force unit times `lu`.
+pub fn units(study: &Study) -> (&'static str, &'static str) {
+    match study.model {
+        ModelSpec::Blade { .. } => ("mm", "mj"),
+        _ => ("lu", "flu"),
+    }
 }
 
-fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>) -> std::io::Result<()> {
-    let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
-    let mut header = String::from("freq_hz,X0,X1");
-    for j in 1..n_out {
-        header.push_str(&format!(",X1_out{j}"));
+/// The harmonic count `H` of a point (its outputs hold `2H + 1` coefficients per output).
+fn harmonics_of(p: &PointSolution) -> usize {
+    if p.n_outputs == 0 {
+        0
+    } else {
+        (p.outputs.len() / p.n_outputs).saturating_sub(1) / 2
     }
-    header.push_str(",e_star_0,e_star_1,iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy,sweep_end");
+}
+
+fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)) -> Result<()> {
+    jprom::io::write_file(path, |f| write_csv_rows(f, res, errors, units))
+}
+
+/// One row per sweep point: `freq_hz`, then per output `j` the static term `x0_out{j}` (signed)
+/// and the amplitudes `x{h}_out{j}` of every harmonic `h = 1..H` (unit suffix: `_mm` or `_lu`),
+/// `e_star_0..e_star_H` (ROMs), Newton iterations, residual, stick/slip/separated AFT samples,
+/// the dissipated energy per cycle (`_mj` or `_flu`) and the sweep's end reason.
+fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>, (len, energy): (&str, &str)) -> std::io::Result<()> {
+    let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
+    let h_max = res.points.first().map(harmonics_of).unwrap_or(0);
+    let mut header = String::from("freq_hz");
+    for j in 0..n_out {
+        for h in 0..=h_max {
+            header.push_str(&format!(",x{h}_out{j}_{len}"));
+        }
+    }
+    for h in 0..=h_max {
+        header.push_str(&format!(",e_star_{h}"));
+    }
+    header.push_str(&format!(",iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy_{energy},sweep_end"));
     writeln!(f, "{header}")?;
     for (i, p) in res.points.iter().enumerate() {
-        let mut line = format!("{:.6},{:.9e},{:.9e}", p.omega / TWO_PI, p.output_coeff(0, 0), p.output_amplitude(1, 0));
-        for j in 1..n_out {
-            line.push_str(&format!(",{:.9e}", p.output_amplitude(1, j)));
+        let mut line = format!("{:.6}", p.omega / TWO_PI);
+        for j in 0..n_out {
+            line.push_str(&format!(",{:.9e}", p.output_coeff(0, j)));
+            for h in 1..=h_max {
+                line.push_str(&format!(",{:.9e}", p.output_amplitude(h, j)));
+            }
         }
-        let (e0, e1) = match errors.and_then(|e| e.get(i)) {
-            Some(e) => (format!("{:.4e}", e[0]), format!("{:.4e}", e.get(1).copied().unwrap_or(f64::NAN))),
-            None => (String::new(), String::new()),
-        };
+        let e = errors.and_then(|e| e.get(i));
+        for h in 0..=h_max {
+            match e.and_then(|e| e.get(h)) {
+                Some(v) => line.push_str(&format!(",{v:.4e}")),
+                None => line.push(','),
+            }
+        }
         let c = state_counts(p);
-        line.push_str(&format!(",{e0},{e1},{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
+        line.push_str(&format!(",{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
         writeln!(f, "{line}")?;
     }
     Ok(())
@@ -579,6 +646,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         // full order
         let mut fo_peak: Option<PointSolution> = None;
         let mut fo_warning: Option<String> = None;
+        let mut fo_edge: Option<String> = None;
         if study.solvers.full_order {
             let mut bar = progress.points(format!("FO sweep, alpha_ST x {level:e}"));
             let t = Instant::now();
@@ -599,11 +667,14 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
                 // the failure is in its row; the ROMs still run
             } else {
             let secs = t.elapsed().as_secs_f64();
-            write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None)?;
+            write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None, units(study))?;
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
             series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
             let warnings = sweep_warnings(&res, &p, band);
+            fo_edge = peak_on_edge(&res, &p, band).map(|edge| {
+                format!("the full-order peak is on {edge} ({:.3} Hz): the errors \"at resonance\" are taken there, not at a resonance", p.omega / TWO_PI)
+            });
             if !res.reached_end() {
                 fo_warning = Some(format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
             }
@@ -625,6 +696,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
                 actual_e1: None,
                 energy_error: None,
                 end: res.end.name().into(),
+                end_reason: end_reason(&res),
                 complete: res.reached_end(),
                 warnings,
                 worst_error: None,
@@ -691,7 +763,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
             let rom = reduced_model(kind, &coords, Some(&condensed), basis)?;
             let res = &adaptive.sweep;
             let errors = &adaptive.predicted_errors;
-            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors))?;
+            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors), units(study))?;
             series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
             let mut warnings = sweep_warnings(res, p, band);
@@ -721,6 +793,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
                 actual_e1: None,
                 energy_error: None,
                 end: res.end.name().into(),
+                end_reason: end_reason(res),
                 complete: res.reached_end(),
                 warnings,
                 worst_error: Some(adaptive.worst_error),
@@ -745,9 +818,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
                 let cycles = reduced_contact_cycles(rom.as_ref(), &plan, r.omega, &r.z)?;
                 let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
                 energies_at_peak.push((rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
-                if let Some(w) = &fo_warning {
-                    row.warnings.push(w.clone());
-                }
+                row.warnings.extend(fo_warning.iter().chain(&fo_edge).cloned());
                 energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
                     let label = name.to_string();
@@ -787,6 +858,8 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         incomplete,
         warnings: study_warnings,
         build_seconds,
+        length_unit: units(study).0.into(),
+        energy_unit: units(study).1.into(),
         rows,
         basis_study,
         basis_study_seconds,
@@ -817,18 +890,19 @@ pub fn summary_table(s: &RunSummary) -> String {
         out.push_str(&format!("(!) {w}\n"));
     }
     out.push_str(&format!(
-        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
-        "a/a_ST", "solver", "n_h", "points", "time s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
+        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        "a/a_ST", "solver", "n_h", "points", "time s", "basis s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
     ));
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
             r.level,
             r.solver,
             format!("{:?}", r.sizes),
             r.points,
             r.sweep_seconds,
+            r.basis_seconds,
             r.corrections,
             r.peak_hz,
             r.peak_x1,

@@ -75,7 +75,7 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
         let text = std::fs::read_to_string(out_dir.join(name)).unwrap();
         let mut lines = text.lines();
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-        let col = header.iter().position(|h| *h == "X1").unwrap();
+        let col = header.iter().position(|h| *h == "x1_out0_mm").unwrap();
         lines.map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap()).fold(0.0, f64::max)
     };
     let (fo, nlr) = (peak("alpha_ST_x1e-1_fo.csv"), peak("alpha_ST_x1e-1_nlr.csv"));
