@@ -214,6 +214,35 @@ module jprom_c
       type(c_ptr), value :: dof_b
       real(c_double), value :: kt, mu, normal_load
     end function
+    !> dof_b: c_loc of the other DoF, or c_null_ptr for an element against ground.
+    integer(c_int) function jprom_model_add_polynomial_spring(model, dof_a, dof_b, coefficients, n) &
+        bind(C, name="jprom_model_add_polynomial_spring")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), value :: dof_a
+      type(c_ptr), value :: dof_b
+      real(c_double), dimension(*), intent(in) :: coefficients
+      integer(c_size_t), value :: n
+    end function
+    !> dof_b: c_loc of the other DoF, or c_null_ptr for an element against ground.
+    integer(c_int) function jprom_model_add_unilateral_spring(model, dof_a, dof_b, kn, n0) &
+        bind(C, name="jprom_model_add_unilateral_spring")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), value :: dof_a
+      type(c_ptr), value :: dof_b
+      real(c_double), value :: kn, n0
+    end function
+    !> dofs_b: c_loc of two DoFs of the other body, or c_null_ptr for a contact against ground.
+    integer(c_int) function jprom_model_add_friction_2d(model, dofs_a, dofs_b, frame, kt, kn, mu, n0) &
+        bind(C, name="jprom_model_add_friction_2d")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: model
+      integer(c_size_t), dimension(*), intent(in) :: dofs_a
+      type(c_ptr), value :: dofs_b
+      real(c_double), dimension(*), intent(in) :: frame
+      real(c_double), value :: kt, kn, mu, n0
+    end function
     integer(c_int) function jprom_model_set_output_dofs(model, dofs, n) bind(C, name="jprom_model_set_output_dofs")
       import :: c_int, c_size_t, c_ptr
       type(c_ptr), value :: model
@@ -451,31 +480,31 @@ module jprom_c
 
     ! ---- JP reduction ----
     !> Deprecated: use jprom_basis_predict_opts.
-    integer(c_int) function jprom_basis_predict(model, opts, omega_lo, omega_hi, gamma, n_samples, out) &
+    integer(c_int) function jprom_basis_predict(model, opts, omega_start, omega_end, gamma, n_samples, out) &
         bind(C, name="jprom_basis_predict")
       import :: c_int, c_double, c_size_t, c_ptr, jprom_hbm_options
       type(c_ptr), value :: model
       type(jprom_hbm_options), intent(in) :: opts
-      real(c_double), value :: omega_lo, omega_hi, gamma
+      real(c_double), value :: omega_start, omega_end, gamma
       integer(c_size_t), value :: n_samples
       type(c_ptr), intent(out) :: out
     end function
-    integer(c_int) function jprom_basis_predict_opts(model, opts, jp_opts, omega_lo, omega_hi, out) &
+    integer(c_int) function jprom_basis_predict_opts(model, opts, jp_opts, omega_start, omega_end, out) &
         bind(C, name="jprom_basis_predict_opts")
       import :: c_int, c_double, c_ptr, jprom_hbm_options, jprom_jp_options
       type(c_ptr), value :: model
       type(jprom_hbm_options), intent(in) :: opts
       type(jprom_jp_options), intent(in) :: jp_opts
-      real(c_double), value :: omega_lo, omega_hi
+      real(c_double), value :: omega_start, omega_end
       type(c_ptr), intent(out) :: out
     end function
-    integer(c_int) function jprom_basis_from_solution(model, solution, opts, jp_opts, omega_lo, omega_hi, out) &
+    integer(c_int) function jprom_basis_from_solution(model, solution, opts, jp_opts, omega_start, omega_end, out) &
         bind(C, name="jprom_basis_from_solution")
       import :: c_int, c_double, c_ptr, jprom_hbm_options, jprom_jp_options
       type(c_ptr), value :: model, solution
       type(jprom_hbm_options), intent(in) :: opts
       type(jprom_jp_options), intent(in) :: jp_opts
-      real(c_double), value :: omega_lo, omega_hi
+      real(c_double), value :: omega_start, omega_end
       type(c_ptr), intent(out) :: out
     end function
     integer(c_int) function jprom_basis_free(basis) bind(C, name="jprom_basis_free")
@@ -586,6 +615,15 @@ module jprom_c
       integer(c_size_t), value :: len
       integer(c_size_t), intent(out) :: count
     end function
+    integer(c_int) function jprom_fe_model_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0) &
+        bind(C, name="jprom_fe_model_add_contact")
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      real(c_double), dimension(*), intent(in) :: frame
+      real(c_double), value :: kt1, kt2, kn, mu, n0
+    end function
+    !> Deprecated: use jprom_fe_model_add_contact.
     integer(c_int) function jprom_fe_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0) bind(C, name="jprom_fe_add_contact")
       import :: c_int, c_ptr, c_int64_t, c_double
       type(c_ptr), value :: fe
@@ -593,6 +631,14 @@ module jprom_c
       real(c_double), dimension(*), intent(in) :: frame
       real(c_double), value :: kt1, kt2, kn, mu, n0
     end function
+    integer(c_int) function jprom_fe_model_add_force(fe, node, harmonic, force) bind(C, name="jprom_fe_model_add_force")
+      import :: c_int, c_ptr, c_int64_t, c_size_t, c_double
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: harmonic
+      real(c_double), dimension(*), intent(in) :: force
+    end function
+    !> Deprecated: use jprom_fe_model_add_force.
     integer(c_int) function jprom_fe_add_force(fe, node, harmonic, force) bind(C, name="jprom_fe_add_force")
       import :: c_int, c_ptr, c_int64_t, c_size_t, c_double
       type(c_ptr), value :: fe
@@ -600,17 +646,37 @@ module jprom_c
       integer(c_size_t), value :: harmonic
       real(c_double), dimension(*), intent(in) :: force
     end function
+    integer(c_int) function jprom_fe_model_add_output(fe, node, direction) bind(C, name="jprom_fe_model_add_output")
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: direction
+    end function
+    !> Deprecated: use jprom_fe_model_add_output.
     integer(c_int) function jprom_fe_add_output(fe, node, direction) bind(C, name="jprom_fe_add_output")
       import :: c_int, c_ptr, c_int64_t, c_size_t
       type(c_ptr), value :: fe
       integer(c_int64_t), value :: node
       integer(c_size_t), value :: direction
     end function
+    integer(c_int) function jprom_fe_model_keep_node(fe, node) bind(C, name="jprom_fe_model_keep_node")
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+    end function
+    !> Deprecated: use jprom_fe_model_keep_node.
     integer(c_int) function jprom_fe_keep_node(fe, node) bind(C, name="jprom_fe_keep_node")
       import :: c_int, c_ptr, c_int64_t
       type(c_ptr), value :: fe
       integer(c_int64_t), value :: node
     end function
+    integer(c_int) function jprom_fe_model_reduce(fe, cb_modes, model) bind(C, name="jprom_fe_model_reduce")
+      import :: c_int, c_ptr, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_size_t), value :: cb_modes
+      type(c_ptr), intent(out) :: model
+    end function
+    !> Deprecated: use jprom_fe_model_reduce.
     integer(c_int) function jprom_fe_reduce(fe, cb_modes, model) bind(C, name="jprom_fe_reduce")
       import :: c_int, c_ptr, c_size_t
       type(c_ptr), value :: fe
@@ -655,12 +721,28 @@ module jprom_c
       integer(c_size_t), dimension(*), intent(in) :: colptr, rowind
       real(c_double), dimension(*), intent(in) :: values
     end function
+    integer(c_int) function jprom_fe_model_fix_dof(fe, node, direction) bind(C, name="jprom_fe_model_fix_dof")
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: node
+      integer(c_size_t), value :: direction
+    end function
+    !> Deprecated: use jprom_fe_model_fix_dof.
     integer(c_int) function jprom_fe_fix_dof(fe, node, direction) bind(C, name="jprom_fe_fix_dof")
       import :: c_int, c_ptr, c_int64_t, c_size_t
       type(c_ptr), value :: fe
       integer(c_int64_t), value :: node
       integer(c_size_t), value :: direction
     end function
+    integer(c_int) function jprom_fe_model_reduce_cutoff(fe, cutoff_hz, max_modes, model) &
+        bind(C, name="jprom_fe_model_reduce_cutoff")
+      import :: c_int, c_ptr, c_size_t, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: cutoff_hz
+      integer(c_size_t), value :: max_modes
+      type(c_ptr), intent(out) :: model
+    end function
+    !> Deprecated: use jprom_fe_model_reduce_cutoff.
     integer(c_int) function jprom_fe_reduce_cutoff(fe, cutoff_hz, max_modes, model) bind(C, name="jprom_fe_reduce_cutoff")
       import :: c_int, c_ptr, c_size_t, c_double
       type(c_ptr), value :: fe
@@ -699,7 +781,8 @@ module jprom
   public :: jp_last_error, jp_status_name, jp_version, jp_live_handle_count, jp_set_memory_budget, jp_memory_budget
   ! models
   public :: jp_model_new, jp_model_new_csc, jp_model_clone, jp_model_free, jp_model_sizes, jp_add_ground_contact, &
-            jp_add_contact, jp_add_jenkins, jp_set_damping, jp_set_modal_damping, jp_set_static_force, &
+            jp_add_contact, jp_add_jenkins, jp_add_polynomial_spring, jp_add_unilateral_spring, jp_add_friction_2d, &
+            jp_set_damping, jp_set_modal_damping, jp_set_static_force, &
             jp_set_first_harmonic_force, jp_set_harmonic_force, jp_set_dynamic_scale, jp_set_excitation_level, &
             jp_excitation_level, jp_set_outputs, jp_model_validate, jp_model_save, jp_model_load
   ! options
@@ -966,6 +1049,73 @@ contains
       pb = c_loc(b)
     end if
     jp_add_jenkins = finish(jprom_model_add_jenkins(model, c_index(dof_a), pb, kt, mu, normal_load), message)
+  end function
+
+  !> Polynomial spring F(w) = sum_p coefficients(p) w**p (p = 1..size(coefficients); the cubic
+  !> k1 w + k3 w**3 is [k1, 0, k3]) on DoF dof_a (1-based), w = x(dof_a) against ground, or
+  !> x(dof_a) - x(dof_b) when dof_b is present.
+  integer function jp_add_polynomial_spring(model, dof_a, coefficients, dof_b, message)
+    use jprom_c, only: jprom_model_add_polynomial_spring
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dof_a
+    real(c_double), intent(in) :: coefficients(:)
+    integer, intent(in), optional :: dof_b
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t), target :: b
+    type(c_ptr) :: pb
+    real(c_double) :: c(max(size(coefficients), 1))
+    pb = c_null_ptr
+    if (present(dof_b)) then
+      b = c_index(dof_b)
+      pb = c_loc(b)
+    end if
+    c = 0
+    c(1:size(coefficients)) = coefficients
+    jp_add_polynomial_spring = finish(jprom_model_add_polynomial_spring(model, c_index(dof_a), pb, c, &
+        int(size(coefficients), c_size_t)), message)
+  end function
+
+  !> Unilateral spring N = max(0, n0 + kn v) on DoF dof_a (1-based), v = x(dof_a) against
+  !> ground, or x(dof_a) - x(dof_b) when dof_b is present; a gap g is n0 = -kn g.
+  integer function jp_add_unilateral_spring(model, dof_a, kn, n0, dof_b, message)
+    use jprom_c, only: jprom_model_add_unilateral_spring
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dof_a
+    real(c_double), intent(in) :: kn, n0
+    integer, intent(in), optional :: dof_b
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t), target :: b
+    type(c_ptr) :: pb
+    pb = c_null_ptr
+    if (present(dof_b)) then
+      b = c_index(dof_b)
+      pb = c_loc(b)
+    end if
+    jp_add_unilateral_spring = finish(jprom_model_add_unilateral_spring(model, c_index(dof_a), pb, kn, n0), message)
+  end function
+
+  !> 2D friction element on the DoFs dofs_a(2) (1-based), against ground, or relative to
+  !> dofs_b(2) when present, in the frame(2, 2) (rows t, n): tangential kt with friction mu,
+  !> normal kn with preload n0.
+  integer function jp_add_friction_2d(model, dofs_a, frame, kt, kn, mu, n0, dofs_b, message)
+    use jprom_c, only: jprom_model_add_friction_2d
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dofs_a(2)
+    real(c_double), intent(in) :: frame(2, 2), kt, kn, mu, n0
+    integer, intent(in), optional :: dofs_b(2)
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t) :: a(2)
+    integer(c_size_t), target :: b(2)
+    real(c_double) :: rows(4)
+    type(c_ptr) :: pb
+    a = c_index(dofs_a)
+    pb = c_null_ptr
+    if (present(dofs_b)) then
+      b = c_index(dofs_b)
+      pb = c_loc(b)
+    end if
+    rows = reshape(transpose(frame), [4])
+    jp_add_friction_2d = finish(jprom_model_add_friction_2d(model, a, pb, rows, kt, kn, mu, n0), message)
   end function
 
   !> Rayleigh damping C = alpha M + beta K.
@@ -1400,28 +1550,28 @@ contains
 
   ! ---- JP reduction ----
 
-  !> JP basis predicted along the stuck mode for the band [omega_lo, omega_hi] (rad/s).
-  integer function jp_basis_predict(model, opts, jp_opts, omega_lo, omega_hi, basis, message)
+  !> JP basis predicted along the stuck mode for the band between omega_start and omega_end (rad/s, either order).
+  integer function jp_basis_predict(model, opts, jp_opts, omega_start, omega_end, basis, message)
     use jprom_c, only: jprom_basis_predict_opts
     type(c_ptr), intent(in) :: model
     type(jprom_hbm_options), intent(in) :: opts
     type(jprom_jp_options), intent(in) :: jp_opts
-    real(c_double), intent(in) :: omega_lo, omega_hi
+    real(c_double), intent(in) :: omega_start, omega_end
     type(c_ptr), intent(out) :: basis
     character(len=*), intent(out), optional :: message
-    jp_basis_predict = finish(jprom_basis_predict_opts(model, opts, jp_opts, omega_lo, omega_hi, basis), message)
+    jp_basis_predict = finish(jprom_basis_predict_opts(model, opts, jp_opts, omega_start, omega_end, basis), message)
   end function
 
   !> The JP basis of a full-order solution's own contact Jacobian.
-  integer function jp_basis_from_solution(model, solution, opts, jp_opts, omega_lo, omega_hi, basis, message)
+  integer function jp_basis_from_solution(model, solution, opts, jp_opts, omega_start, omega_end, basis, message)
     use jprom_c, only: jprom_basis_from_solution
     type(c_ptr), intent(in) :: model, solution
     type(jprom_hbm_options), intent(in) :: opts
     type(jprom_jp_options), intent(in) :: jp_opts
-    real(c_double), intent(in) :: omega_lo, omega_hi
+    real(c_double), intent(in) :: omega_start, omega_end
     type(c_ptr), intent(out) :: basis
     character(len=*), intent(out), optional :: message
-    jp_basis_from_solution = finish(jprom_basis_from_solution(model, solution, opts, jp_opts, omega_lo, omega_hi, basis), &
+    jp_basis_from_solution = finish(jprom_basis_from_solution(model, solution, opts, jp_opts, omega_start, omega_end, basis), &
                                     message)
   end function
 
@@ -1620,54 +1770,54 @@ contains
 
   !> Node-to-ground 3D friction contact on a node; frame(3, 3): rows t1, t2, n.
   integer function jp_fe_add_contact(fe, node, frame, kt1, kt2, kn, mu, n0, message)
-    use jprom_c, only: jprom_fe_add_contact
+    use jprom_c, only: jprom_fe_model_add_contact
     type(c_ptr), intent(in) :: fe
     integer(c_int64_t), intent(in) :: node
     real(c_double), intent(in) :: frame(3, 3), kt1, kt2, kn, mu, n0
     character(len=*), intent(out), optional :: message
     real(c_double) :: rows(9)
     rows = reshape(transpose(frame), [9])
-    jp_fe_add_contact = finish(jprom_fe_add_contact(fe, node, rows, kt1, kt2, kn, mu, n0), message)
+    jp_fe_add_contact = finish(jprom_fe_model_add_contact(fe, node, rows, kt1, kt2, kn, mu, n0), message)
   end function
 
   !> Force f(3) on a node: harmonic 0 = static load, 1 = first harmonic (cos part).
   integer function jp_fe_add_force(fe, node, harmonic, f, message)
-    use jprom_c, only: jprom_fe_add_force
+    use jprom_c, only: jprom_fe_model_add_force
     type(c_ptr), intent(in) :: fe
     integer(c_int64_t), intent(in) :: node
     integer, intent(in) :: harmonic
     real(c_double), intent(in) :: f(3)
     character(len=*), intent(out), optional :: message
-    jp_fe_add_force = finish(jprom_fe_add_force(fe, node, int(harmonic, c_size_t), f), message)
+    jp_fe_add_force = finish(jprom_fe_model_add_force(fe, node, int(harmonic, c_size_t), f), message)
   end function
 
   !> Output: direction 1, 2 or 3 (x, y, z) of a node; outputs are numbered in the order added.
   integer function jp_fe_add_output(fe, node, direction, message)
-    use jprom_c, only: jprom_fe_add_output
+    use jprom_c, only: jprom_fe_model_add_output
     type(c_ptr), intent(in) :: fe
     integer(c_int64_t), intent(in) :: node
     integer, intent(in) :: direction
     character(len=*), intent(out), optional :: message
-    jp_fe_add_output = finish(jprom_fe_add_output(fe, node, c_index(direction)), message)
+    jp_fe_add_output = finish(jprom_fe_model_add_output(fe, node, c_index(direction)), message)
   end function
 
   !> Keeps a node (all its DoFs) in the reduced model without a contact, load or output on it.
   integer function jp_fe_keep_node(fe, node, message)
-    use jprom_c, only: jprom_fe_keep_node
+    use jprom_c, only: jprom_fe_model_keep_node
     type(c_ptr), intent(in) :: fe
     integer(c_int64_t), intent(in) :: node
     character(len=*), intent(out), optional :: message
-    jp_fe_keep_node = finish(jprom_fe_keep_node(fe, node), message)
+    jp_fe_keep_node = finish(jprom_fe_model_keep_node(fe, node), message)
   end function
 
   !> Craig-Bampton reduction (contact, loaded, output and kept nodes + cb_modes modes) to a model.
   integer function jp_fe_reduce(fe, cb_modes, model, message)
-    use jprom_c, only: jprom_fe_reduce
+    use jprom_c, only: jprom_fe_model_reduce
     type(c_ptr), intent(in) :: fe
     integer, intent(in) :: cb_modes
     type(c_ptr), intent(out) :: model
     character(len=*), intent(out), optional :: message
-    jp_fe_reduce = finish(jprom_fe_reduce(fe, int(cb_modes, c_size_t), model), message)
+    jp_fe_reduce = finish(jprom_fe_model_reduce(fe, int(cb_modes, c_size_t), model), message)
   end function
 
   ! ---- damping forms and natural modes ----
@@ -1754,23 +1904,23 @@ contains
 
   !> Fixes (clamps) direction (1..6: x, y, z, rx, ry, rz) of node: its row and column leave K, M, C.
   integer function jp_fe_fix_dof(fe, node, direction, message)
-    use jprom_c, only: jprom_fe_fix_dof
+    use jprom_c, only: jprom_fe_model_fix_dof
     type(c_ptr), intent(in) :: fe
     integer(c_int64_t), intent(in) :: node
     integer, intent(in) :: direction
     character(len=*), intent(out), optional :: message
-    jp_fe_fix_dof = finish(jprom_fe_fix_dof(fe, node, c_index(direction)), message)
+    jp_fe_fix_dof = finish(jprom_fe_model_fix_dof(fe, node, c_index(direction)), message)
   end function
 
   !> Craig-Bampton keeping the fixed-interface modes up to cutoff_hz, at most max_modes.
   integer function jp_fe_reduce_cutoff(fe, cutoff_hz, max_modes, model, message)
-    use jprom_c, only: jprom_fe_reduce_cutoff
+    use jprom_c, only: jprom_fe_model_reduce_cutoff
     type(c_ptr), intent(in) :: fe
     real(c_double), intent(in) :: cutoff_hz
     integer, intent(in) :: max_modes
     type(c_ptr), intent(out) :: model
     character(len=*), intent(out), optional :: message
-    jp_fe_reduce_cutoff = finish(jprom_fe_reduce_cutoff(fe, cutoff_hz, int(max_modes, c_size_t), model), message)
+    jp_fe_reduce_cutoff = finish(jprom_fe_model_reduce_cutoff(fe, cutoff_hz, int(max_modes, c_size_t), model), message)
   end function
 
   !> The lowest size(frequency_hz) natural frequencies (Hz) of the FE model on its supports.

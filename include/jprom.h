@@ -309,31 +309,31 @@ jprom_status jprom_fe_model_node_set(const jprom_fe_model *fe,
 // Places a node-to-ground 3D friction contact on node `node` (its x, y, z DoFs) with
 // `frame[9]` (row-major rows `t1`, `t2`, `n`, as in `jprom_model_add_contact_3d`) and the law
 // `kt1, kt2, kn, mu >= 0`, preload `n0`. Contacts keep the order they are added in.
-jprom_status jprom_fe_add_contact(jprom_fe_model *fe,
-                                  int64_t node,
-                                  const double *frame,
-                                  double kt1,
-                                  double kt2,
-                                  double kn,
-                                  double mu,
-                                  double n0);
+jprom_status jprom_fe_model_add_contact(jprom_fe_model *fe,
+                                        int64_t node,
+                                        const double *frame,
+                                        double kt1,
+                                        double kt2,
+                                        double kn,
+                                        double mu,
+                                        double n0);
 
 // Adds the force `force[3]` (x, y, z) on node `node` to harmonic `harmonic`: 0 the static load
 // `f_E^0`, 1 the first harmonic (cos part).
-jprom_status jprom_fe_add_force(jprom_fe_model *fe,
-                                int64_t node,
-                                size_t harmonic,
-                                const double *force);
+jprom_status jprom_fe_model_add_force(jprom_fe_model *fe,
+                                      int64_t node,
+                                      size_t harmonic,
+                                      const double *force);
 
 // Adds an output: direction `direction` (0, 1, 2: x, y, z) of node `node`. Outputs keep the
 // order they are added in (output `j` of the reduced model is the `j`-th added).
-jprom_status jprom_fe_add_output(jprom_fe_model *fe, int64_t node, size_t direction);
+jprom_status jprom_fe_model_add_output(jprom_fe_model *fe, int64_t node, size_t direction);
 
 // Keeps node `node` (its x, y, z) in the reduced model although nothing is placed on it.
-jprom_status jprom_fe_keep_node(jprom_fe_model *fe, int64_t node);
+jprom_status jprom_fe_model_keep_node(jprom_fe_model *fe, int64_t node);
 
 // Sets the FE model's viscous damping matrix `C` (compressed sparse column form like `K` and
-// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_reduce`
+// `M` in `jprom_fe_model_new_csc`; symmetric, `n` = the model's DoF count). `jprom_fe_model_reduce`
 // reduces it with the model (`T^T C T`) into the reduced model's added damping matrix.
 jprom_status jprom_fe_model_set_damping_csc(jprom_fe_model *fe,
                                             size_t n,
@@ -350,26 +350,82 @@ jprom_status jprom_fe_model_modes(const jprom_fe_model *fe, size_t n_modes, doub
 // column leave `K`, `M` and `C`, for FE exports without supports. Call before placing
 // contacts, forces, outputs or kept nodes (those are checked against the current DoFs; a
 // contact on a node that loses a translation is refused).
-jprom_status jprom_fe_fix_dof(jprom_fe_model *fe, int64_t node, size_t direction);
+jprom_status jprom_fe_model_fix_dof(jprom_fe_model *fe, int64_t node, size_t direction);
 
-// As `jprom_fe_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
+// As `jprom_fe_model_reduce`, keeping the fixed-interface modes up to `cutoff_hz` (finite, > 0), at
 // most `max_modes` of them. `*out` is written only on success.
-jprom_status jprom_fe_reduce_cutoff(const jprom_fe_model *fe,
-                                    double cutoff_hz,
-                                    size_t max_modes,
-                                    jprom_model **out);
+jprom_status jprom_fe_model_reduce_cutoff(const jprom_fe_model *fe,
+                                          double cutoff_hz,
+                                          size_t max_modes,
+                                          jprom_model **out);
 
 // Reduces the FE model by Craig-Bampton: the contact nodes (in the order added), then the
 // loaded, output and kept nodes are the boundary, plus `cb_modes` fixed-interface modes. The
 // new model's damping is the reduced FE `C` if one was set (`jprom_fe_model_set_damping_csc`),
 // else none; add Rayleigh, modal or structural damping with the `jprom_model_set_*` damping
 // functions. Its contact `i` is the `i`-th added, its output `j` the `j`-th. `*out` is written only on success; free it with `jprom_model_free`.
+jprom_status jprom_fe_model_reduce(const jprom_fe_model *fe,
+                                   size_t cb_modes,
+                                   jprom_model **out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_contact`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_add_contact")
+jprom_status jprom_fe_add_contact(jprom_fe_model *fe,
+                                  int64_t node,
+                                  const double *frame,
+                                  double kt1,
+                                  double kt2,
+                                  double kn,
+                                  double mu,
+                                  double n0);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_force`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_add_force")
+jprom_status jprom_fe_add_force(jprom_fe_model *fe,
+                                int64_t node,
+                                size_t harmonic,
+                                const double *force);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_output`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_add_output")
+jprom_status jprom_fe_add_output(jprom_fe_model *fe,
+                                 int64_t node,
+                                 size_t direction);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_keep_node`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_keep_node")
+jprom_status jprom_fe_keep_node(jprom_fe_model *fe,
+                                int64_t node);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_fix_dof`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_fix_dof")
+jprom_status jprom_fe_fix_dof(jprom_fe_model *fe,
+                              int64_t node,
+                              size_t direction);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_reduce_cutoff`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_reduce_cutoff")
+jprom_status jprom_fe_reduce_cutoff(const jprom_fe_model *fe,
+                                    double cutoff_hz,
+                                    size_t max_modes,
+                                    jprom_model **out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_reduce`, named like every other
+// function on a `jprom_fe_model`.
+JPROM_DEPRECATED("use jprom_fe_model_reduce")
 jprom_status jprom_fe_reduce(const jprom_fe_model *fe,
                              size_t cb_modes,
                              jprom_model **out);
 
 // Predicts a JP basis for `model` without any full-order solution: boundary conditions
-// sampled along the stuck mode nearest the band `[omega_lo, omega_hi]` (rad/s) at
+// sampled along the stuck mode nearest the band between `omega_start` and `omega_end` (rad/s,
+// either order, as in `jprom_sweep_options`) at
 // `n_samples` amplitudes, JP modes of each distinct contact-state pattern, SVD conditioning
 // with ratio `gamma` (typically 1e2 to 1e4). `options->harmonics` and `nt` set `H` and the
 // AFT samples. `n_samples` is at most `JPROM_MAX_SAMPLES` (else `JPROM_BAD_SIZE`).
@@ -379,8 +435,8 @@ jprom_status jprom_fe_reduce(const jprom_fe_model *fe,
 JPROM_DEPRECATED("use jprom_basis_predict_opts")
 jprom_status jprom_basis_predict(const jprom_model *model,
                                  const jprom_hbm_options *options,
-                                 double omega_lo,
-                                 double omega_hi,
+                                 double omega_start,
+                                 double omega_end,
                                  double gamma,
                                  size_t n_samples,
                                  jprom_basis **out);
@@ -436,13 +492,14 @@ jprom_status jprom_jp_options_init(jprom_jp_options *out, size_t struct_size);
 jprom_status jprom_basis_predict_opts(const jprom_model *model,
                                       const jprom_hbm_options *options,
                                       const jprom_jp_options *jp_options,
-                                      double omega_lo,
-                                      double omega_hi,
+                                      double omega_start,
+                                      double omega_end,
                                       jprom_basis **out);
 
 // The basis of a full-order solution's own boundary conditions (docs/formulation.md §8): the contact
 // stiffness at `solution` (from `jprom_solve_point`, or a point of `jprom_sweep`, condensed
-// or not), its JP modes in `[omega_lo, omega_hi]` (plus `jp_options->extra_outside` nearest
+// or not), its JP modes in the band between `omega_start` and `omega_end` (rad/s, either order;
+// plus `jp_options->extra_outside` nearest
 // ones) and SVD conditioning with `jp_options->gamma`. With every mode kept it reproduces the
 // solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
 // samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
@@ -451,8 +508,8 @@ jprom_status jprom_basis_from_solution(const jprom_model *model,
                                        const jprom_solution *solution,
                                        const jprom_hbm_options *options,
                                        const jprom_jp_options *jp_options,
-                                       double omega_lo,
-                                       double omega_hi,
+                                       double omega_start,
+                                       double omega_end,
                                        jprom_basis **out);
 
 // The self-correcting reduced sweep, jprom's default JP workflow (docs/formulation.md): predicts
@@ -580,7 +637,7 @@ jprom_status jprom_model_set_modal_damping(jprom_model *model, double zeta, doub
 
 // Viscous damping matrix added to the Rayleigh part: `C = alpha M + beta K + C_added`, from a
 // dense, column-major `n x n` array (`n` = the model's DoF count; symmetric). `c = NULL` with
-// `n = 0` removes it. A model from `jprom_fe_reduce` already holds the reduced FE `C` here
+// `n = 0` removes it. A model from `jprom_fe_model_reduce` already holds the reduced FE `C` here
 // if one was set with `jprom_fe_model_set_damping_csc`; this replaces it.
 jprom_status jprom_model_set_damping_matrix(jprom_model *model, const double *c, size_t n);
 
@@ -659,6 +716,50 @@ jprom_status jprom_model_add_jenkins(jprom_model *model,
                                      double kt,
                                      double mu,
                                      double normal_load);
+
+// Adds a 1D polynomial spring (docs/formulation.md §4.3), memoryless:
+// `F(w) = sum_p c_p w^p` for `p = 1..=n_coefficients`, `c_p = coefficients[p - 1]` (no
+// constant term), on `w = x[dof_a]` against ground if `dof_b` is NULL, else
+// `w = x[dof_a] - x[*dof_b]`; the force on `dof_a` is `-F(w)` (and `+F(w)` on `*dof_b`). The
+// cubic (Duffing) spring `k1 w + k3 w^3` is `coefficients = {k1, 0, k3}`. Coefficients must be
+// finite; they may be negative (softening). 1 to 16 coefficients; `coefficients` is copied.
+//
+// Elements may share DoFs: `dof_a` may be the `b` DoF of other elements and `*dof_b` the `a`
+// DoF of another one (a chain, "q1 to ground, q2 - q1"; no cycle), and elements with the same
+// `dof_a` and `dof_b` act in parallel on one coordinate (solutions then report one contact
+// cycle for them, at the first one's place). Any other reuse of `dof_a` is refused.
+jprom_status jprom_model_add_polynomial_spring(jprom_model *model,
+                                               size_t dof_a,
+                                               const size_t *dof_b,
+                                               const double *coefficients,
+                                               size_t n_coefficients);
+
+// Adds a 1D unilateral spring with gap or preload (docs/formulation.md §4.3):
+// `N = max(0, n0 + kn v)` with `v = x[dof_a]` against ground if `dof_b` is NULL, else
+// `v = x[dof_a] - x[*dof_b]` (positive into the contact); the force on `dof_a` is `-N`. A gap
+// `g > 0` is `n0 = -kn g`. `kn >= 0` and `n0` finite. DoF sharing as for
+// `jprom_model_add_polynomial_spring`.
+jprom_status jprom_model_add_unilateral_spring(jprom_model *model,
+                                               size_t dof_a,
+                                               const size_t *dof_b,
+                                               double kn,
+                                               double n0);
+
+// Adds a 2D friction element (docs/formulation.md §4.3): one tangential direction and the
+// normal. `dofs_a[2]`: the global DoFs (x, y) of node `a`; `dofs_b[2]`: those of node `b`, or
+// NULL for a contact with ground. `frame[4]`: row-major 2 x 2 rotation whose rows are the unit
+// vectors `t` and `n` (normal into the contact), so `w = (u, v) = R (x_a - x_b)`. Tangential
+// spring `kt` with Coulomb friction `mu`, normal spring `kn` (all `>= 0`), preload `n0`
+// (`N = max(0, n0 + kn v)`, `|T| <= mu N`). DoF sharing as for
+// `jprom_model_add_polynomial_spring`, with both DoFs of a node.
+jprom_status jprom_model_add_friction_2d(jprom_model *model,
+                                         const size_t *dofs_a,
+                                         const size_t *dofs_b,
+                                         const double *frame,
+                                         double kt,
+                                         double kn,
+                                         double mu,
+                                         double n0);
 
 // DoFs whose response is reported by solutions and sweeps (0-based, `n_outputs` entries;
 // NULL allowed when `n_outputs == 0`). Replaces any previous list.

@@ -456,6 +456,89 @@ pub unsafe extern "C" fn jprom_model_add_jenkins(
     })
 }
 
+/// Adds a 1D polynomial spring (docs/formulation.md §4.3), memoryless:
+/// `F(w) = sum_p c_p w^p` for `p = 1..=n_coefficients`, `c_p = coefficients[p - 1]` (no
+/// constant term), on `w = x[dof_a]` against ground if `dof_b` is NULL, else
+/// `w = x[dof_a] - x[*dof_b]`; the force on `dof_a` is `-F(w)` (and `+F(w)` on `*dof_b`). The
+/// cubic (Duffing) spring `k1 w + k3 w^3` is `coefficients = {k1, 0, k3}`. Coefficients must be
+/// finite; they may be negative (softening). 1 to 16 coefficients; `coefficients` is copied.
+///
+/// Elements may share DoFs: `dof_a` may be the `b` DoF of other elements and `*dof_b` the `a`
+/// DoF of another one (a chain, "q1 to ground, q2 - q1"; no cycle), and elements with the same
+/// `dof_a` and `dof_b` act in parallel on one coordinate (solutions then report one contact
+/// cycle for them, at the first one's place). Any other reuse of `dof_a` is refused.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_polynomial_spring(
+    model: *mut jprom_model,
+    dof_a: usize,
+    dof_b: *const usize,
+    coefficients: *const f64,
+    n_coefficients: usize,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let b = if dof_b.is_null() { None } else { Some(*dof_b) };
+        let c = slice_arg(coefficients, n_coefficients, "coefficients")?.to_vec();
+        push_contact(&mut m.model, Contact::polynomial(dof_a, b, c))?;
+        Ok(())
+    })
+}
+
+/// Adds a 1D unilateral spring with gap or preload (docs/formulation.md §4.3):
+/// `N = max(0, n0 + kn v)` with `v = x[dof_a]` against ground if `dof_b` is NULL, else
+/// `v = x[dof_a] - x[*dof_b]` (positive into the contact); the force on `dof_a` is `-N`. A gap
+/// `g > 0` is `n0 = -kn g`. `kn >= 0` and `n0` finite. DoF sharing as for
+/// `jprom_model_add_polynomial_spring`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_unilateral_spring(
+    model: *mut jprom_model,
+    dof_a: usize,
+    dof_b: *const usize,
+    kn: f64,
+    n0: f64,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let b = if dof_b.is_null() { None } else { Some(*dof_b) };
+        push_contact(&mut m.model, Contact::unilateral(dof_a, b, kn, n0))?;
+        Ok(())
+    })
+}
+
+/// Adds a 2D friction element (docs/formulation.md §4.3): one tangential direction and the
+/// normal. `dofs_a[2]`: the global DoFs (x, y) of node `a`; `dofs_b[2]`: those of node `b`, or
+/// NULL for a contact with ground. `frame[4]`: row-major 2 x 2 rotation whose rows are the unit
+/// vectors `t` and `n` (normal into the contact), so `w = (u, v) = R (x_a - x_b)`. Tangential
+/// spring `kt` with Coulomb friction `mu`, normal spring `kn` (all `>= 0`), preload `n0`
+/// (`N = max(0, n0 + kn v)`, `|T| <= mu N`). DoF sharing as for
+/// `jprom_model_add_polynomial_spring`, with both DoFs of a node.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_friction_2d(
+    model: *mut jprom_model,
+    dofs_a: *const usize,
+    dofs_b: *const usize,
+    frame: *const f64,
+    kt: f64,
+    kn: f64,
+    mu: f64,
+    n0: f64,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let a = slice_arg(dofs_a, 2, "dofs_a")?;
+        let b = if dofs_b.is_null() { None } else { Some(slice_arg(dofs_b, 2, "dofs_b")?) };
+        let f = slice_arg(frame, 4, "frame")?;
+        let c = Contact::friction_2d(
+            [a[0], a[1]],
+            b.map(|b| [b[0], b[1]]),
+            [[f[0], f[1]], [f[2], f[3]]],
+            ContactLaw::Friction2D { kt, kn, mu, n0 },
+        );
+        push_contact(&mut m.model, c)?;
+        Ok(())
+    })
+}
+
 /// DoFs whose response is reported by solutions and sweeps (0-based, `n_outputs` entries;
 /// NULL allowed when `n_outputs == 0`). Replaces any previous list.
 #[no_mangle]

@@ -5,6 +5,7 @@
 #![allow(deprecated)]
 
 mod ffi_damping;
+mod ffi_elements;
 mod ffi_fe;
 mod ffi_files;
 mod ffi_hardening;
