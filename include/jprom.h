@@ -717,7 +717,7 @@ jprom_status jprom_model_add_jenkins(jprom_model *model,
                                      double mu,
                                      double normal_load);
 
-// Adds a 1D polynomial spring (docs/formulation.md §4.3), memoryless:
+// Adds a 1D polynomial spring (docs/formulation.md §4.6), memoryless:
 // `F(w) = sum_p c_p w^p` for `p = 1..=n_coefficients`, `c_p = coefficients[p - 1]` (no
 // constant term), on `w = x[dof_a]` against ground if `dof_b` is NULL, else
 // `w = x[dof_a] - x[*dof_b]`; the force on `dof_a` is `-F(w)` (and `+F(w)` on `*dof_b`). The
@@ -734,7 +734,7 @@ jprom_status jprom_model_add_polynomial_spring(jprom_model *model,
                                                const double *coefficients,
                                                size_t n_coefficients);
 
-// Adds a 1D unilateral spring with gap or preload (docs/formulation.md §4.3):
+// Adds a 1D unilateral spring with gap or preload (docs/formulation.md §4.6):
 // `N = max(0, n0 + kn v)` with `v = x[dof_a]` against ground if `dof_b` is NULL, else
 // `v = x[dof_a] - x[*dof_b]` (positive into the contact); the force on `dof_a` is `-N`. A gap
 // `g > 0` is `n0 = -kn g`. `kn >= 0` and `n0` finite. DoF sharing as for
@@ -745,7 +745,7 @@ jprom_status jprom_model_add_unilateral_spring(jprom_model *model,
                                                double kn,
                                                double n0);
 
-// Adds a 2D friction element (docs/formulation.md §4.3): one tangential direction and the
+// Adds a 2D friction element (docs/formulation.md §4.6): one tangential direction and the
 // normal. `dofs_a[2]`: the global DoFs (x, y) of node `a`; `dofs_b[2]`: those of node `b`, or
 // NULL for a contact with ground. `frame[4]`: row-major 2 x 2 rotation whose rows are the unit
 // vectors `t` and `n` (normal into the contact), so `w = (u, v) = R (x_a - x_b)`. Tangential

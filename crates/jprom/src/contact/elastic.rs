@@ -1,4 +1,4 @@
-//! The scalar elastic elements and the 2D friction element (docs/formulation.md §4.3), as
+//! The scalar elastic elements and the 2D friction element (docs/formulation.md §4.6), as
 //! [`SampleLaw`]s so that the AFT's one chain-rule loop gives their forces and Jacobians.
 //!
 //! * [`Polynomial`]: memoryless spring `F(w) = sum_p c_p w^p` (`p = 1..=P`) on a scalar `w`,
