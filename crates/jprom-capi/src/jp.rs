@@ -79,12 +79,10 @@ pub unsafe extern "C" fn jprom_basis_predict(
         let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
         let mut p = PredictionOptions::new(band);
-        p.harmonics = hopts.harmonics;
-        p.nt = hopts.nt;
         p.gamma = finite_arg("gamma", gamma)?;
         jprom::limits::at_most("n_samples", n_samples, jprom::limits::MAX_SAMPLES)?;
         p.n_samples = n_samples;
-        let (basis, _) = predict_basis(&coords, &p)?;
+        let (basis, _) = predict_basis(&coords, &AftPlan::new(hopts.harmonics, hopts.nt())?, &p)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -283,10 +281,8 @@ fn mode_options(o: &jprom_jp_options, band: (f64, f64)) -> ModeOptions {
     m
 }
 
-fn prediction_options(o: &jprom_jp_options, hopts: &HbmOptions, band: (f64, f64)) -> PredictionOptions {
+fn prediction_options(o: &jprom_jp_options, band: (f64, f64)) -> PredictionOptions {
     let mut p = PredictionOptions::new(band);
-    p.harmonics = hopts.harmonics;
-    p.nt = hopts.nt;
     p.gamma = o.gamma;
     p.n_samples = o.n_samples;
     p.modes = mode_options(o, band);
@@ -319,7 +315,7 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
         let out = out_arg(out, "out")?;
         let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
-        let (basis, _) = predict_basis(&coords, &prediction_options(&jo, &hopts, band))?;
+        let (basis, _) = predict_basis(&coords, &AftPlan::new(hopts.harmonics, hopts.nt())?, &prediction_options(&jo, band))?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -398,7 +394,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         let out = out_arg(out, "out")?;
         let kind = rom_kind(kind)?;
         // the JP band is the band swept, whichever way it is swept
-        let pred = prediction_options(&jo, &hopts, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
+        let pred = prediction_options(&jo, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
         let aopts = AdaptiveOptions {
             kind,
             threshold: jo.threshold,

@@ -26,8 +26,7 @@ fn rust_table() -> Vec<Vec<f64>> {
     let mut rows: Vec<Vec<f64>> =
         res.points.iter().enumerate().map(|(i, p)| vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1)]).collect();
     assert!(rows.len() > 20, "too few full-order points");
-    let mut pred = PredictionOptions::new((60.0, 160.0));
-    pred.harmonics = 3;
+    let pred = PredictionOptions::new((60.0, 160.0));
     let jp = adaptive_sweep(&model, &pred, &SweepOptions::band(60.0, 160.0), &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
     assert!(jp.sweep.points.len() > 20, "too few JP points");
     rows.extend(jp.sweep.points.iter().zip(&jp.predicted_errors).enumerate().map(|(i, (p, e))| {

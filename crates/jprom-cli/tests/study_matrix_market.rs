@@ -181,9 +181,9 @@ fn reconditioning_a_basis_equals_predicting_it_with_the_smaller_gamma() {
     let mut popts = PredictionOptions::new(band);
     popts.n_samples = 30;
     popts.gamma = 1e4;
-    let (big, _) = predict_basis(&coords, &popts).unwrap();
+    let (big, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
     popts.gamma = 1e2;
-    let (small, _) = predict_basis(&coords, &popts).unwrap();
+    let (small, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
     let r = big.reconditioned(1e2).unwrap();
     assert_eq!(r.sizes, small.sizes);
     assert!(r.sizes[1] < big.sizes[1], "sizes {:?} (gamma 1e2) vs {:?} (1e4)", r.sizes, big.sizes);

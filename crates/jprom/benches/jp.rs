@@ -37,10 +37,9 @@ fn main() {
         println!("{h:>2} {:>8} {:>10} {:>9} {:>8} {t_fo:>10.3} {:>10} {:>10} {:>10} {:>10}", "-", "-", "-", "FO", fo.points.len(), "-", "-", "-");
         for gamma in [1e2, 1e3, 1e4] {
             let mut popts = PredictionOptions::new(band);
-            popts.harmonics = h;
             popts.gamma = gamma;
             let t = Instant::now();
-            let (basis, _) = predict_basis(&coords, &popts).unwrap();
+            let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
             let t_build = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
             let condensed = CondensedSystem::new(&model, &hopts).unwrap();

@@ -74,13 +74,12 @@ fn main() {
             };
             fo_cost.push((n_contacts, h, per_point));
             let mut popts = PredictionOptions::new(blade.band);
-            popts.harmonics = h;
             popts.modes.extra_outside = 2;
             // At 242 contacts nearly every sample is a distinct contact-state pattern and each
             // costs one JP eigen solve (about 1 s at H = 1, 20 s at H = 3 by shift-invert).
             popts.n_samples = if n_contacts > 100 { SAMPLES_REFINED } else { 100 };
             let t = Instant::now();
-            let (basis, rep) = predict_basis(&coords, &popts).unwrap();
+            let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
             let t_basis = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
             let nlr = NlrRom::new(&cond, &basis).unwrap();

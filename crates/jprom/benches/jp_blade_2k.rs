@@ -128,10 +128,9 @@ fn main() {
     let coords = ContactCoordinates::new(&model, h).unwrap();
     let plan = AftPlan::new(h, hopts.nt()).unwrap();
     let mut popts = PredictionOptions::new(band);
-    popts.harmonics = h;
     popts.n_samples = n_samples;
     let t = Instant::now();
-    let (basis, rep) = predict_basis(&coords, &popts).expect("basis");
+    let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).expect("plan"), &popts).expect("basis");
     let t_basis = stage(&format!("basis: {} samples, {} patterns, sizes {:?}", n_samples, rep.n_patterns, basis.sizes), t);
     let rss_basis = vm_hwm_mb();
 

@@ -113,12 +113,10 @@ fn main() {
     table.row("FO (condensed) time per point", sig(1e3 * t_fo / fo.points.len() as f64), "ms", format!("{how}: {} points in {:.2} s ({} unknowns); condensation set-up {:.3} s", fo.points.len(), t_fo, condensed.layout().total(), t_cond));
 
     let mut popts = PredictionOptions::new(band);
-    popts.harmonics = 1;
-    popts.nt = Some(64);
     popts.gamma = 1e3;
     popts.n_samples = 100;
     let t = Instant::now();
-    let (basis, report) = predict_basis(&coords, &popts).expect("basis");
+    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, 64).expect("plan"), &popts).expect("basis");
     let t_basis = t.elapsed().as_secs_f64();
     table.row("JP basis build (prediction)", sig(t_basis), "s", format!("predict_basis: stuck mode, 100 log-spaced samples, {} contact-state patterns, gamma 1e3 -> sizes {:?}", report.n_patterns, basis.sizes));
 

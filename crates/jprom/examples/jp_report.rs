@@ -77,7 +77,7 @@ fn main() {
             popts.modes.extra_outside = EXTRA;
             popts.gamma = gamma;
             let t = Instant::now();
-            let (basis, rep) = predict_basis(&coords, &popts).unwrap();
+            let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
             let tb = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
             let nlr = NlrRom::new(&cond, &basis).unwrap();
@@ -129,10 +129,9 @@ fn main() {
         let coords = ContactCoordinates::new(&model, h).unwrap();
         let cond = CondensedSystem::new(&model, &hopts).unwrap();
         let mut popts = PredictionOptions::new(blade.band);
-        popts.harmonics = h;
         popts.modes.extra_outside = EXTRA;
         let t = Instant::now();
-        let (basis, _) = predict_basis(&coords, &popts).unwrap();
+        let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
         let tb = t.elapsed().as_secs_f64();
         let fr = FrRom::new(&coords, &basis).unwrap();
         let nlr = NlrRom::new(&cond, &basis).unwrap();

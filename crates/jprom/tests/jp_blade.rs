@@ -126,7 +126,7 @@ fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> PredictedRow {
     let mut popts = PredictionOptions::new(b.band);
     popts.modes.extra_outside = 2;
     popts.gamma = gamma;
-    let (basis, _) = predict_basis(&coords, &popts).unwrap();
+    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(coords.harmonic_force.len(), jprom::hbm::default_nt(coords.harmonic_force.len())).unwrap(), &popts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let nlr = NlrRom::new(&cond, &basis).unwrap();
     let fr_sizes = fr.layout().sizes.clone();
@@ -218,9 +218,8 @@ fn band_condensed_fr_sweeps_at_h3() {
     let model = b.at_level(b.alpha_st / 10.0);
     let hopts = HbmOptions::with_harmonics(3);
     let coords = ContactCoordinates::new(&model, 3).unwrap();
-    let mut popts = PredictionOptions::new(b.band);
-    popts.harmonics = 3;
-    let (basis, _) = predict_basis(&coords, &popts).unwrap();
+    let popts = PredictionOptions::new(b.band);
+    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(coords.harmonic_force.len(), jprom::hbm::default_nt(coords.harmonic_force.len())).unwrap(), &popts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: 30, ..SweepOptions::band(b.band.0, b.band.1) };
     let sw = jprom::hbm::sweep(&fr, &sopts, &hopts, &mut |_| std::ops::ControlFlow::Continue(())).unwrap();

@@ -260,7 +260,7 @@ fn predicted_basis_partial_slip() {
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let plan = AftPlan::new(1, hopts.nt()).unwrap();
     let t = Instant::now();
-    let (basis, report) = predict_basis(&coords, &PredictionOptions::new(p.band)).unwrap();
+    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &PredictionOptions::new(p.band)).unwrap();
     println!("predicted in {:?}: sizes {:?}, {} patterns, omega_ST {:.1} Hz", t.elapsed(), basis.sizes, report.n_patterns, report.omega_stuck.unwrap() / (2.0 * PI));
     // The generating shape is the anti-phase flap mode (the stuck mode nearest the band centre).
     assert!((report.omega_stuck.unwrap() / p.omega_stuck - 1.0).abs() < 1e-9);

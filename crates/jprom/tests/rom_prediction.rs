@@ -34,7 +34,7 @@ fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
     for gamma in [1e2, 1e3, 1e4] {
         let mut opts = PredictionOptions::new(band);
         opts.gamma = gamma;
-        let (basis, report) = predict_basis(&coords, &opts).unwrap();
+        let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &opts).unwrap();
         assert!(report.p_min <= report.p_max && report.n_patterns >= 1);
         assert!(basis.sizes[0] >= last_sizes[0] && basis.sizes[1] >= last_sizes[1], "sizes shrink with gamma");
         last_sizes = basis.sizes.clone();
@@ -123,7 +123,7 @@ fn prediction_works_without_static_load() {
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let mut p = PredictionOptions::new((60.0, 160.0));
     p.n_samples = 10;
-    let (basis, report) = predict_basis(&coords, &p).unwrap();
+    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
     assert!(basis.sizes[1] > 0);
     assert!(report.static_solution.iter().any(|x| *x != 0.0), "the preload moves the static solution");
 }

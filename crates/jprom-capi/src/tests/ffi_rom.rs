@@ -73,7 +73,7 @@ fn rom_sweep_through_c_matches_the_rust_api() {
     let mut p = PredictionOptions::new(band);
     p.gamma = 1e3;
     p.n_samples = 30;
-    let (basis, _) = predict_basis(&coords, &p).unwrap();
+    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
     let cond = CondensedSystem::new(&model, &hopts).unwrap();
     let rom = NlrRom::new(&cond, &basis).unwrap();
     let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
@@ -171,7 +171,7 @@ fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
     let mut p = PredictionOptions::new(band);
     p.n_samples = 30;
     p.modes.extra_outside = 2;
-    let (basis, _) = predict_basis(&coords, &p).unwrap();
+    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
     unsafe {
         let (opts, _, mut jo) = c_options(band);
         let a = AdaptiveOptions::default();

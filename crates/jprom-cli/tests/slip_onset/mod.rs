@@ -200,8 +200,7 @@ pub fn run_level(model: &Model, limit: &StuckLimit, band: (f64, f64), harmonics:
     let coords = ContactCoordinates::new(&model, harmonics).unwrap();
     let mut report = LevelReport { level, slip_fraction: slipping as f64 / samples as f64, fo_points: fo.points.len(), fo_seconds, rom: Vec::new() };
     for kind in [RomKind::Fr, RomKind::Nlr] {
-        let mut pred = PredictionOptions::new(band);
-        pred.harmonics = harmonics;
+        let pred = PredictionOptions::new(band);
         let a = adaptive_sweep(&model, &pred, &sopts, &hopts, &AdaptiveOptions { kind, ..AdaptiveOptions::default() }).unwrap();
         let rom: Box<dyn ReducedModel> = match kind {
             RomKind::Fr => Box::new(FrRom::new(&coords, &a.basis).unwrap()),

@@ -20,7 +20,6 @@ use super::{lu_solve, ContactJacobian};
 use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
 use crate::contact::ContactState;
 use crate::error::{JpError, Result};
-use crate::hbm::default_nt;
 use crate::linalg::norm2;
 use crate::model::ContactCoordinates;
 use faer::Mat;
@@ -66,10 +65,6 @@ pub enum GeneratingShape {
 /// Settings of the prediction.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PredictionOptions {
-    /// Highest harmonic `H`.
-    pub harmonics: usize,
-    /// AFT samples (`None`: [`default_nt`]).
-    pub nt: Option<usize>,
     /// Band and mode selection of (31). The default has no static correction
     /// ([`ModeOptions::static_correction`]): each distinct pattern would add its own correction
     /// vectors, which the SVD keeps as separate directions (measured on the blade at
@@ -96,8 +91,6 @@ impl PredictionOptions {
     /// samples, `gamma = 1e3`, two eigenpairs beyond the band, no static correction.
     pub fn new(band: (f64, f64)) -> Self {
         PredictionOptions {
-            harmonics: 1,
-            nt: None,
             modes: ModeOptions { extra_outside: 2, static_correction: false, ..ModeOptions::in_band(band) },
             gamma: 1e3,
             n_samples: 100,
@@ -255,22 +248,22 @@ fn pattern(forces: &ContactForces) -> Vec<u8> {
     forces.cycles.iter().flat_map(|c| c.states.iter().map(|&s| s as u8)).collect()
 }
 
-/// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution.
+/// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution, with the
+/// harmonics `H` and AFT samples of `plan` (the system's; `coords` must hold forces up to `H`).
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
-pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
+pub fn predict_basis(coords: &ContactCoordinates, plan: &AftPlan, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
     let n = coords.n_dof;
     let nw = coords.n_w;
-    let hh = opts.harmonics;
-    if hh == 0 || coords.harmonic_force.len() < hh {
-        return Err(JpError::invalid("PredictionOptions.harmonics", format!("must be in 1..={}", coords.harmonic_force.len())));
+    let hh = plan.harmonics();
+    if coords.harmonic_force.len() < hh {
+        return Err(JpError::invalid("contact coordinates", format!("built for H = {}, the AFT plan has H = {hh}", coords.harmonic_force.len())));
     }
     if opts.n_samples == 0 {
         return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
     }
-    let plan = AftPlan::new(hh, opts.nt.unwrap_or_else(|| default_nt(hh)))?;
-    let q_static = static_solution(coords, &plan)?;
+    let q_static = static_solution(coords, plan)?;
     let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
         GeneratingShape::StuckMode => {
             let (w_st, phi) = stuck_mode(coords, opts.modes.band)?;
@@ -293,7 +286,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     if !(p_max.is_finite() && p_max > 0.0) {
         return Err(JpError::invalid("p_max", format!("must be finite and > 0, got {p_max}")));
     }
-    let at = |p: f64, jac: bool| eval(coords, &plan, &contact_w(nw, hh, &q0, &c, &s, p), jac, true);
+    let at = |p: f64, jac: bool| eval(coords, plan, &contact_w(nw, hh, &q0, &c, &s, p), jac, true);
 
     // p̂_min by bisection on "all stuck".
     let p_min = if all_stuck(&at(p_max, false)) {

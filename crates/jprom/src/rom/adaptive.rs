@@ -231,9 +231,6 @@ pub fn adaptive_sweep_with_progress(
     aopts: &AdaptiveOptions,
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
-    if pred.harmonics != hopts.harmonics {
-        return Err(JpError::invalid("PredictionOptions.harmonics", format!("{} differs from HbmOptions.harmonics {}", pred.harmonics, hopts.harmonics)));
-    }
     if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
         return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
     }
@@ -243,7 +240,7 @@ pub fn adaptive_sweep_with_progress(
     let check_with = if aopts.verify && checkable { condensed.as_ref() } else { None };
     let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
     let mut popts = pred.clone();
-    let (mut basis, mut prediction) = predict_basis(&coords, &popts)?;
+    let (mut basis, mut prediction) = predict_basis(&coords, &plan, &popts)?;
     let mut rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
     let mut corrections = Vec::new();
     // A basis too poor to converge at the first frequency has no reduced solution to
@@ -256,7 +253,7 @@ pub fn adaptive_sweep_with_progress(
                     return Err(e);
                 }
                 popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
-                let (fresh, r) = predict_basis(&coords, &popts)?;
+                let (fresh, r) = predict_basis(&coords, &plan, &popts)?;
                 basis = basis.union(&fresh, popts.gamma)?;
                 prediction = r;
                 rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
@@ -303,7 +300,7 @@ pub fn adaptive_sweep_with_progress(
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
-        let (fresh, r) = predict_basis(&coords, &popts)?;
+        let (fresh, r) = predict_basis(&coords, &plan, &popts)?;
         let b = basis.union(&fresh, popts.gamma)?;
         let new_rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &b)?;
         let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, &plan, corrections.len() + 1, on_point)?;
