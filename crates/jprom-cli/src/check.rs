@@ -6,7 +6,7 @@
 //! Every error names the study key and its line in the study file.
 
 use crate::locate::toml_line;
-use crate::study::{Axis, ContactSetSpec, ModelSpec, Nodes, Study};
+use crate::study::{FeSource, FeSpec, ModelSpec, Nodes, Study};
 use jprom::contact::ContactLaw;
 use jprom::error::{JpError, Result};
 use jprom::fe::{FeModel, FeNode, NodalContact, NodalForce, Reduction};
@@ -115,15 +115,6 @@ impl ModelNodes {
     }
 }
 
-/// The FE parts of a study's model: contact sets, output nodes and components, `cb_modes`, `cb_cutoff_hz`.
-fn fe_parts(study: &Study) -> Option<(&[ContactSetSpec], &Nodes, &[Axis], usize, Option<f64>)> {
-    match &study.model {
-        ModelSpec::MatrixMarket { contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz, .. }
-        | ModelSpec::Calculix { contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz, .. } => Some((contacts, output_nodes, output_components, *cb_modes, *cb_cutoff_hz)),
-        ModelSpec::Blade { .. } => None,
-    }
-}
-
 /// Places the contacts (in `[[model.contacts]]` order, each with its frame and law), the loads
 /// and the outputs of an FE study on `nodes`: the Craig-Bampton reduction to make.
 ///
@@ -131,10 +122,10 @@ fn fe_parts(study: &Study) -> Option<(&[ContactSetSpec], &Nodes, &[Axis], usize,
 /// The key and why: an unknown node id or set name, a node without its translations, a
 /// contact node given twice, a frame that cannot be built (a node on the axis).
 pub fn placement(study: &Study, nodes: &ModelNodes) -> std::result::Result<Reduction, Bad> {
-    let Some((contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz)) = fe_parts(study) else {
+    let ModelSpec::Fe(FeSpec { contacts, output_nodes, output_components, cb_modes, cb_cutoff_hz, .. }) = &study.model else {
         return Err(("model.kind".into(), "not an FE model".into()));
     };
-    let mut spec = Reduction { cb_modes, cb_cutoff_hz, ..Reduction::default() };
+    let mut spec = Reduction { cb_modes: *cb_modes, cb_cutoff_hz: *cb_cutoff_hz, ..Reduction::default() };
     let mut contact_key: HashMap<i64, usize> = HashMap::new();
     for (i, set) in contacts.iter().enumerate() {
         let key = |k: &str| format!("model.contacts[{i}].{k}");
@@ -197,16 +188,18 @@ fn io_reason(e: JpError) -> String {
 /// The key and why (the file's own error, with its line, inside the reason).
 pub fn check_files(study: &Study) -> std::result::Result<FileReport, Bad> {
     let mut report = FileReport::default();
-    if let ModelSpec::MatrixMarket { damping, .. } | ModelSpec::Calculix { damping, .. } = &study.model {
+    if let ModelSpec::Fe(FeSpec { damping, .. }) = &study.model {
         if let Some(path) = &damping.matrix {
             let key = "model.damping.matrix";
             let h = read_matrix_market_header(path, true).map_err(|e| (key.to_string(), io_reason(e)))?;
             report.files.push(format!("{key} = {}: {} x {}, {} entries, {:.1} MB (header read)", path.display(), h.rows, h.cols, h.entries, h.file_bytes as f64 / 1e6));
         }
     }
-    let nodes = match &study.model {
-        ModelSpec::Blade { .. } => return Ok(report),
-        ModelSpec::MatrixMarket { mass, stiffness, dof_map, .. } => {
+    let ModelSpec::Fe(fe) = &study.model else {
+        return Ok(report);
+    };
+    let nodes = match &fe.source {
+        FeSource::MatrixMarket { mass, stiffness, dof_map } => {
             let mut n = None;
             for (key, path) in [("model.stiffness", stiffness), ("model.mass", mass)] {
                 let h = read_matrix_market_header(path, true).map_err(|e| (key.to_string(), io_reason(e)))?;
@@ -235,7 +228,7 @@ pub fn check_files(study: &Study) -> std::result::Result<FileReport, Bad> {
             report.files.push(format!("model.dof_map = {}: {} nodes", dof_map.display(), map.nodes.len()));
             ModelNodes::of_dof_map(&map, format!("the DoF map {}", dof_map.display()))
         }
-        ModelSpec::Calculix { deck, .. } => {
+        FeSource::Calculix { deck } => {
             let files = CalculixFiles::of_job(deck);
             let key = "model.deck";
             let bad = |e: JpError| (key.to_string(), io_reason(e));

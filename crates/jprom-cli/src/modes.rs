@@ -100,7 +100,7 @@ pub fn band_warning_without_modes(band_hz: (f64, f64), chosen_hz: f64, e: &JpErr
 /// The model's reading and reduction errors (as `jprom run`'s); the eigensolvers'.
 pub fn modes_report(study: &Study, count: usize, progress: Progress) -> Result<ModesReport> {
     let (fe, model) = match &study.model {
-        ModelSpec::MatrixMarket { .. } | ModelSpec::Calculix { .. } => {
+        ModelSpec::Fe(_) => {
             let read = read_fe_model(study, progress)?;
             let n = count.min(read.fe.n_dof());
             let step = progress.step(format!("FE natural frequencies ({n} lowest, shift-invert Lanczos, {} DoFs)", read.fe.n_dof()));

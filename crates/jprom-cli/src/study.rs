@@ -152,37 +152,56 @@ pub enum ModelSpec {
         damping: DampingSpec,
         contact: ContactSpec,
     },
+    /// The user's FE model (`kind = "matrix_market"` or `"calculix"`).
+    Fe(FeSpec),
+}
+
+/// An FE model of the user's: where its matrices come from, and what the study places on it.
+/// Craig-Bampton keeps the contact, forced and output nodes as boundary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeSpec {
+    pub source: FeSource,
+    pub cb_modes: usize,
+    /// Keep the fixed-interface modes up to this frequency (Hz); `cb_modes` is then a cap.
+    pub cb_cutoff_hz: Option<f64>,
+    pub damping: DampingSpec,
+    /// Node-to-ground contact sets (`[[model.contacts]]`).
+    pub contacts: Vec<ContactSetSpec>,
+    /// Output node ids; the first component of the first node is the response plotted.
+    pub output_nodes: Nodes,
+    /// Which of each output node's DoFs are outputs (default all three).
+    pub output_components: Vec<Axis>,
+}
+
+/// Where an FE model's matrices come from. Paths are relative to the study file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FeSource {
     /// Matrix Market `M`, `K` and a node/DoF map ([`jprom::io::dof_map`]) placing contacts,
-    /// outputs and forces (`[[forcing.static]]`, `[[forcing.harmonic]]`). Craig-Bampton keeps
-    /// the contact, forced and output nodes as boundary. Paths are relative to the study file.
-    MatrixMarket {
-        mass: PathBuf,
-        stiffness: PathBuf,
-        dof_map: PathBuf,
-        cb_modes: usize,
-        /// Keep the fixed-interface modes up to this frequency (Hz); `cb_modes` is then a cap.
-        cb_cutoff_hz: Option<f64>,
-        damping: DampingSpec,
-        /// Node-to-ground contact sets (`[[model.contacts]]`).
-        contacts: Vec<ContactSetSpec>,
-        /// Output node ids; the first component of the first node is the response plotted.
-        output_nodes: Nodes,
-        /// Which of each output node's DoFs are outputs (default all three).
-        output_components: Vec<Axis>,
-    },
+    /// outputs and forces (`[[forcing.static]]`, `[[forcing.harmonic]]`).
+    MatrixMarket { mass: PathBuf, stiffness: PathBuf, dof_map: PathBuf },
     /// A CalculiX job: `K`, `M` and the row of each DoF from `*MATRIX STORAGE` (`job.sti`,
     /// `job.mas`, `job.dof` beside the deck), node coordinates and `*NSET`s from the deck
-    /// `job.inp` ([`jprom::io::calculix`]). As [`ModelSpec::MatrixMarket`] otherwise; node sets
-    /// of the deck can be named wherever node ids go.
-    Calculix {
-        deck: PathBuf,
-        cb_modes: usize,
-        cb_cutoff_hz: Option<f64>,
-        damping: DampingSpec,
-        contacts: Vec<ContactSetSpec>,
-        output_nodes: Nodes,
-        output_components: Vec<Axis>,
-    },
+    /// `job.inp` ([`jprom::io::calculix`]); node sets of the deck can be named wherever node
+    /// ids go.
+    Calculix { deck: PathBuf },
+}
+
+impl FeSpec {
+    /// The FE parts of a `[model]` table of an FE kind (output components default to x, y, z).
+    #[allow(clippy::too_many_arguments)]
+    fn from_raw(source: FeSource, damping: DampingSpec, cb_modes: usize, cb_cutoff_hz: Option<f64>, contacts: Vec<ContactSetSpec>, output_nodes: Nodes, output_components: Option<Vec<Axis>>) -> Self {
+        FeSpec { source, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components: output_components.unwrap_or_else(xyz) }
+    }
+}
+
+impl FeSource {
+    /// The `model.kind` of this source.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            FeSource::MatrixMarket { .. } => "matrix_market",
+            FeSource::Calculix { .. } => "calculix",
+        }
+    }
 }
 
 /// `model.kind`.
@@ -272,17 +291,8 @@ impl TryFrom<RawModel> for ModelSpec {
                     return not_for("contact", "matrix_market (use [[model.contacts]] sets)");
                 }
                 let need = |key: &str, p: Option<PathBuf>| p.ok_or_else(|| format!("key 'model.{key}' is required for kind = \"matrix_market\""));
-                Ok(ModelSpec::MatrixMarket {
-                    mass: need("mass", r.mass)?,
-                    stiffness: need("stiffness", r.stiffness)?,
-                    dof_map: need("dof_map", r.dof_map)?,
-                    cb_modes: r.cb_modes,
-                    cb_cutoff_hz: r.cb_cutoff_hz,
-                    damping: damping.clone(),
-                    contacts: r.contacts,
-                    output_nodes: r.output_nodes,
-                    output_components: r.output_components.unwrap_or_else(xyz),
-                })
+                let source = FeSource::MatrixMarket { mass: need("mass", r.mass)?, stiffness: need("stiffness", r.stiffness)?, dof_map: need("dof_map", r.dof_map)? };
+                Ok(ModelSpec::Fe(FeSpec::from_raw(source, damping.clone(), r.cb_modes, r.cb_cutoff_hz, r.contacts, r.output_nodes, r.output_components)))
             }
             ModelKind::Calculix => {
                 for (key, given) in [("refinement", r.refinement.is_some()), ("mass", r.mass.is_some()), ("stiffness", r.stiffness.is_some()), ("dof_map", r.dof_map.is_some())] {
@@ -293,15 +303,8 @@ impl TryFrom<RawModel> for ModelSpec {
                 if r.contact.is_some() {
                     return not_for("contact", "calculix (use [[model.contacts]] sets)");
                 }
-                Ok(ModelSpec::Calculix {
-                    deck: r.deck.ok_or_else(|| "key 'model.deck' is required for kind = \"calculix\"".to_string())?,
-                    cb_modes: r.cb_modes,
-                    cb_cutoff_hz: r.cb_cutoff_hz,
-                    damping: damping.clone(),
-                    contacts: r.contacts,
-                    output_nodes: r.output_nodes,
-                    output_components: r.output_components.unwrap_or_else(xyz),
-                })
+                let source = FeSource::Calculix { deck: r.deck.ok_or_else(|| "key 'model.deck' is required for kind = \"calculix\"".to_string())? };
+                Ok(ModelSpec::Fe(FeSpec::from_raw(source, damping.clone(), r.cb_modes, r.cb_cutoff_hz, r.contacts, r.output_nodes, r.output_components)))
             }
         }
     }
@@ -326,38 +329,28 @@ impl From<ModelSpec> for RawModel {
                 output_nodes: Nodes::default(),
                 output_components: None,
             },
-            ModelSpec::MatrixMarket { mass, stiffness, dof_map, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components } => RawModel {
-                kind: ModelKind::MatrixMarket,
-                refinement: None,
-                cb_modes,
-                cb_cutoff_hz,
-                damping_ratio: damping.short_form(),
-                damping: if damping.short_form().is_some() { None } else { Some(damping) },
-                contact: None,
-                mass: Some(mass),
-                stiffness: Some(stiffness),
-                dof_map: Some(dof_map),
-                deck: None,
-                contacts,
-                output_nodes,
-                output_components: Some(output_components),
-            },
-            ModelSpec::Calculix { deck, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components } => RawModel {
-                kind: ModelKind::Calculix,
-                refinement: None,
-                cb_modes,
-                cb_cutoff_hz,
-                damping_ratio: damping.short_form(),
-                damping: if damping.short_form().is_some() { None } else { Some(damping) },
-                contact: None,
-                mass: None,
-                stiffness: None,
-                dof_map: None,
-                deck: Some(deck),
-                contacts,
-                output_nodes,
-                output_components: Some(output_components),
-            },
+            ModelSpec::Fe(FeSpec { source, cb_modes, cb_cutoff_hz, damping, contacts, output_nodes, output_components }) => {
+                let (kind, mass, stiffness, dof_map, deck) = match source {
+                    FeSource::MatrixMarket { mass, stiffness, dof_map } => (ModelKind::MatrixMarket, Some(mass), Some(stiffness), Some(dof_map), None),
+                    FeSource::Calculix { deck } => (ModelKind::Calculix, None, None, None, Some(deck)),
+                };
+                RawModel {
+                    kind,
+                    refinement: None,
+                    cb_modes,
+                    cb_cutoff_hz,
+                    damping_ratio: damping.short_form(),
+                    damping: if damping.short_form().is_some() { None } else { Some(damping) },
+                    contact: None,
+                    mass,
+                    stiffness,
+                    dof_map,
+                    deck,
+                    contacts,
+                    output_nodes,
+                    output_components: Some(output_components),
+                }
+            }
         }
     }
 }
@@ -861,22 +854,18 @@ impl Study {
                 *p = base.join(&*p);
             }
         };
-        match &mut self.model {
-            ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping, .. } => {
-                fix(mass);
-                fix(stiffness);
-                fix(dof_map);
-                if let Some(c) = damping.matrix.as_mut() {
-                    fix(c);
+        if let ModelSpec::Fe(fe) = &mut self.model {
+            match &mut fe.source {
+                FeSource::MatrixMarket { mass, stiffness, dof_map } => {
+                    fix(mass);
+                    fix(stiffness);
+                    fix(dof_map);
                 }
+                FeSource::Calculix { deck } => fix(deck),
             }
-            ModelSpec::Calculix { deck, damping, .. } => {
-                fix(deck);
-                if let Some(c) = damping.matrix.as_mut() {
-                    fix(c);
-                }
+            if let Some(c) = fe.damping.matrix.as_mut() {
+                fix(c);
             }
-            ModelSpec::Blade { .. } => {}
         }
         fix(&mut self.output.dir);
     }
@@ -957,9 +946,8 @@ impl Study {
                 }
                 (*cb_modes, damping, Some(contact))
             }
-            ModelSpec::MatrixMarket { cb_modes, damping, contacts, output_nodes, output_components, .. }
-            | ModelSpec::Calculix { cb_modes, damping, contacts, output_nodes, output_components, .. } => {
-                let kind = if matches!(self.model, ModelSpec::Calculix { .. }) { "calculix" } else { "matrix_market" };
+            ModelSpec::Fe(FeSpec { source, cb_modes, damping, contacts, output_nodes, output_components, .. }) => {
+                let kind = source.kind();
                 if contacts.is_empty() {
                     return bad("model.contacts", format!("a {kind} model needs at least one [[model.contacts]] set"));
                 }
@@ -1057,7 +1045,7 @@ impl Study {
         if cb_modes > MAX_CB_MODES {
             return over("model.cb_modes", cb_modes, MAX_CB_MODES, "the reduced model is dense");
         }
-        if let ModelSpec::MatrixMarket { cb_cutoff_hz: Some(f), .. } | ModelSpec::Calculix { cb_cutoff_hz: Some(f), .. } = &self.model {
+        if let ModelSpec::Fe(FeSpec { cb_cutoff_hz: Some(f), .. }) = &self.model {
             if !(f.is_finite() && *f > 0.0) {
                 return bad("model.cb_cutoff_hz", format!("must be finite and > 0 Hz, got {f}"));
             }
