@@ -17,18 +17,107 @@ pub struct Series {
     pub line_and_markers: bool,
     /// Palette index; default: the series' position.
     pub color: Option<usize>,
+    /// A fixed look (a solver's: [`Series::solver`]); overrides the fields above.
+    pub style: Option<Style>,
+    /// Drawn after the others (the full-order reference goes on top).
+    pub on_top: bool,
+}
+
+/// How a line is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dash {
+    Solid,
+    Dashed,
+    None,
+}
+
+/// A marker's shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Marker {
+    None,
+    Circle,
+    Square,
+    Triangle,
+}
+
+/// A series' look: colour, line, width and marker.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Style {
+    pub color: RGBColor,
+    pub dash: Dash,
+    pub width: u32,
+    pub marker: Marker,
+    /// Markers on at most this many points (a sweep has hundreds); 0: on every point.
+    pub max_markers: usize,
+}
+
+/// The colour of each solver, the same in every plot: FO black, FR red, NLR blue.
+pub const FO_COLOR: RGBColor = RGBColor(0, 0, 0);
+pub const FR_COLOR: RGBColor = RGBColor(214, 39, 40);
+pub const NLR_COLOR: RGBColor = RGBColor(31, 119, 180);
+
+/// The solver a label names (`FO...`, `FR...`, `NLR...`), if any.
+pub fn solver_of(label: &str) -> Option<&'static str> {
+    ["NLR", "FR", "FO"].into_iter().find(|s| label.starts_with(s))
+}
+
+/// A solver's colour ([`FO_COLOR`], [`FR_COLOR`], [`NLR_COLOR`]); grey for anything else.
+pub fn solver_color(solver: &str) -> RGBColor {
+    match solver_of(solver) {
+        Some("FO") => FO_COLOR,
+        Some("FR") => FR_COLOR,
+        Some("NLR") => NLR_COLOR,
+        _ => RGBColor(110, 110, 110),
+    }
 }
 
 impl Series {
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, markers: false, line_and_markers: false, color: None }
+        Series { label: label.into(), points, markers: false, line_and_markers: false, color: None, style: None, on_top: false }
     }
     pub fn markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, markers: true, line_and_markers: false, color: None }
+        Series { label: label.into(), points, markers: true, line_and_markers: false, color: None, style: None, on_top: false }
     }
     /// A line through square markers.
     pub fn line_and_markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, markers: false, line_and_markers: true, color: None }
+        Series { label: label.into(), points, markers: false, line_and_markers: true, color: None, style: None, on_top: false }
+    }
+    /// A solver's curve in its own look, the same in every plot (`label` starts with `FO`,
+    /// `FR` or `NLR`): FO a thin solid black line with circles, drawn on top; FR a wide red
+    /// dashed line with squares; NLR a wider blue solid line with triangles, underneath. Where
+    /// the three coincide all three stay visible. `line = false`: markers only.
+    pub fn solver(label: impl Into<String>, points: Vec<(f64, f64)>, line: bool) -> Self {
+        let label = label.into();
+        let solver = solver_of(&label);
+        let (dash, width, marker) = match solver {
+            Some("FO") => (Dash::Solid, 2, Marker::Circle),
+            Some("FR") => (Dash::Dashed, 3, Marker::Square),
+            Some("NLR") => (Dash::Solid, 6, Marker::Triangle),
+            _ => (Dash::Solid, 2, Marker::Circle),
+        };
+        let color = solver_color(&label);
+        let color = if solver == Some("NLR") && line { RGBColor(140, 185, 220) } else { color };
+        let style = Style { color, dash: if line { dash } else { Dash::None }, width, marker, max_markers: if line { 12 } else { 0 } };
+        Series { label, points, markers: !line, line_and_markers: false, color: None, style: Some(style), on_top: solver == Some("FO") }
+    }
+    /// The same series in a fixed look.
+    pub fn styled(mut self, style: Style) -> Self {
+        self.style = Some(style);
+        self
+    }
+    /// The look it is drawn with: its [`Style`], or one from its kind and palette colour `i`.
+    pub fn look(&self, i: usize) -> Style {
+        if let Some(st) = self.style {
+            return st;
+        }
+        let color = PALETTE[self.color.unwrap_or(i) % PALETTE.len()];
+        if self.line_and_markers {
+            Style { color, dash: Dash::Solid, width: 2, marker: Marker::Square, max_markers: 0 }
+        } else if self.markers {
+            Style { color, dash: Dash::None, width: 2, marker: Marker::Circle, max_markers: 0 }
+        } else {
+            Style { color, dash: Dash::Solid, width: 2, marker: Marker::None, max_markers: 0 }
+        }
     }
     /// The same series in palette colour `i`.
     pub fn color(mut self, i: usize) -> Self {
@@ -85,26 +174,33 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
         return if log { (1e-3, 1.0) } else { (0.0, 1.0) };
     }
     if log {
-        let (l, h) = (lo.log10().floor(), hi.log10().ceil());
-        (10f64.powf(l), 10f64.powf(if h > l { h } else { l + 1.0 }))
+        // whole decades, with room so that a point on a decade is not drawn on the frame
+        // (a little beyond them, so that the decades themselves are inside and labelled)
+        let (l, h) = ((lo.log10() - 0.05).floor(), (hi.log10() + 0.05).ceil());
+        (0.98 * 10f64.powf(l), 1.02 * 10f64.powf(if h > l { h } else { l + 1.0 }))
     } else {
         let pad = if hi > lo { 0.05 * (hi - lo) } else { lo.abs().max(1.0) * 0.05 };
         (lo - pad, hi + pad)
     }
 }
 
-/// Tick label: short scientific notation on log axes (`1e-5`, `2e-3`), plain otherwise.
-fn tick(v: f64, log: bool) -> String {
+/// Tick label: on log axes the decades (`1e-5`), and on an axis of at most two decades also
+/// `2e-5` and `5e-5`; other ticks are left unlabelled, so no label repeats. Plain numbers on
+/// linear axes.
+fn tick(v: f64, log: bool, decades: f64) -> String {
     if !log {
         let a = v.abs();
         return if a != 0.0 && (a >= 1e5 || a < 1e-3) { format!("{v:.1e}") } else { format!("{}", (v * 1e6).round() / 1e6) };
     }
-    let e = v.log10().round();
-    if (v / 10f64.powf(e) - 1.0).abs() < 1e-6 {
-        format!("1e{}", e as i32)
-    } else {
-        format!("{v:.0e}")
+    let e = v.log10().floor();
+    let mantissa = v / 10f64.powf(e);
+    for m in [1.0, 2.0, 5.0, 10.0] {
+        if (mantissa / m - 1.0).abs() < 1e-6 && (m == 1.0 || m == 10.0 || decades <= 2.5) {
+            let (m, e) = if m == 10.0 { (1.0, e + 1.0) } else { (m, e) };
+            return format!("{m}e{}", e as i32);
+        }
     }
+    String::new()
 }
 
 /// Writes an SVG line/marker plot of `series` to `path`.
@@ -119,9 +215,14 @@ pub fn write_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()>
     jprom::io::write_file(path, |w| w.write_all(svg.as_bytes()))
 }
 
+/// Width of the legend panel right of the chart (the legend never covers data).
+const LEGEND_W: u32 = 250;
+
 fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()> {
-    let root = SVGBackend::with_string(svg, (760, 520)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (760 + LEGEND_W, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let title_area = root.titled(spec.title, ("sans-serif", 18)).map_err(|e| plot_err(path, e))?;
+    let (chart_area, legend_area) = title_area.split_horizontally(760);
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (mut x0, mut x1) = range(all().map(|p| p.0), spec.log_x);
     let (mut y0, mut y1) = range(all().map(|p| p.1), spec.log_y);
@@ -130,8 +231,11 @@ fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) 
         let hi = x1.max(y1);
         (x0, x1, y0, y1) = (lo, hi, lo, hi);
     }
-    let mut builder = ChartBuilder::on(&root);
-    builder.caption(spec.title, ("sans-serif", 18)).margin(12).x_label_area_size(45).y_label_area_size(75);
+    // drawing order: everything, then the series on top (the full order); legend in given order
+    let mut order: Vec<usize> = (0..series.len()).filter(|&i| !series[i].on_top).collect();
+    order.extend((0..series.len()).filter(|&i| series[i].on_top));
+    let mut builder = ChartBuilder::on(&chart_area);
+    builder.margin(12).x_label_area_size(45).y_label_area_size(80);
     macro_rules! draw {
         ($chart:expr) => {{
             let mut chart = $chart.map_err(|e| plot_err(path, e))?;
@@ -139,65 +243,55 @@ fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) 
                 .configure_mesh()
                 .x_desc(spec.x_label)
                 .y_desc(spec.y_label)
-                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x))
-                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y))
+                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x, (x1 / x0).log10()))
+                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y, (y1 / y0).log10()))
+                .light_line_style(WHITE.mix(0.0))
+                .bold_line_style(BLACK.mix(0.12))
                 .draw()
                 .map_err(|e| plot_err(path, e))?;
             if spec.diagonal {
-                chart
-                    .draw_series(LineSeries::new(vec![(x0, x0), (x1, x1)], BLACK.mix(0.4).stroke_width(1)))
-                    .map_err(|e| plot_err(path, e))?
-                    .label("predicted = actual")
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
+                chart.draw_series(LineSeries::new(vec![(x0, x0), (x1, x1)], BLACK.mix(0.4).stroke_width(1))).map_err(|e| plot_err(path, e))?;
             }
-            for (i, s) in series.iter().enumerate() {
-                let color = PALETTE[s.color.unwrap_or(i) % PALETTE.len()];
-                let pts: Vec<(f64, f64)> = s
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite() && (!spec.log_x || p.0 > 0.0) && (!spec.log_y || p.1 > 0.0))
-                    .collect();
-                if s.line_and_markers {
-                    chart
-                        .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
-                        .map_err(|e| plot_err(path, e))?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| {
-                            EmptyElement::at((x, y))
-                                + PathElement::new(vec![(0, 0), (18, 0)], color.stroke_width(2))
-                                + Rectangle::new([(6, -3), (12, 3)], color.filled())
-                        });
-                    chart
-                        .draw_series(pts.iter().map(|&p| EmptyElement::at(p) + Rectangle::new([(-3, -3), (3, 3)], color.filled())))
-                        .map_err(|e| plot_err(path, e))?;
-                } else if s.markers {
-                    chart
-                        .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
-                        .map_err(|e| plot_err(path, e))?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| Circle::new((x + 9, y), 4, color.filled()));
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                        .map_err(|e| plot_err(path, e))?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+            let visible = |s: &Series| -> Vec<(f64, f64)> {
+                s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite() && (!spec.log_x || p.0 > 0.0) && (!spec.log_y || p.1 > 0.0)).collect()
+            };
+            // the lines first, then the markers over every line (so that no series' markers
+            // hide under another's line), each pass in drawing order
+            for &i in &order {
+                let st = series[i].look(i);
+                let pts = visible(&series[i]);
+                let line = ShapeStyle { color: st.color.to_rgba(), filled: false, stroke_width: st.width };
+                match st.dash {
+                    Dash::Solid => {
+                        chart.draw_series(LineSeries::new(pts.clone(), line)).map_err(|e| plot_err(path, e))?;
+                    }
+                    Dash::Dashed => {
+                        chart.draw_series(DashedLineSeries::new(pts.clone(), 10, 6, line)).map_err(|e| plot_err(path, e))?;
+                    }
+                    Dash::None => {}
                 }
             }
-            chart
-                .configure_series_labels()
-                .position(match spec.legend {
-                    Legend::UpperRight => SeriesLabelPosition::UpperRight,
-                    Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-                    Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-                    Legend::LowerRight => SeriesLabelPosition::LowerRight,
-                    Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
-                })
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| plot_err(path, e))?;
+            for &i in &order {
+                let st = series[i].look(i);
+                let pts = visible(&series[i]);
+                // markers on at most max_markers points, offset per series so they do not coincide
+                let every = if st.max_markers == 0 || pts.len() <= st.max_markers { 1 } else { pts.len().div_ceil(st.max_markers) };
+                let shift = if every > 1 { (i * every / 3) % every } else { 0 };
+                let marks: Vec<(f64, f64)> = pts.iter().copied().skip(shift).step_by(every).collect();
+                let fill = st.color.filled();
+                match st.marker {
+                    Marker::None => {}
+                    Marker::Circle => {
+                        chart.draw_series(marks.iter().map(|&p| Circle::new(p, 4, fill))).map_err(|e| plot_err(path, e))?;
+                    }
+                    Marker::Square => {
+                        chart.draw_series(marks.iter().map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], fill))).map_err(|e| plot_err(path, e))?;
+                    }
+                    Marker::Triangle => {
+                        chart.draw_series(marks.iter().map(|&p| TriangleMarker::new(p, 6, fill))).map_err(|e| plot_err(path, e))?;
+                    }
+                }
+            }
         }};
     }
     match (spec.log_x, spec.log_y) {
@@ -206,6 +300,53 @@ fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) 
         (true, false) => draw!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)),
         (true, true) => draw!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())),
     }
+    draw_legend(&legend_area, path, spec, series)?;
     root.present().map_err(|e| plot_err(path, e))?;
+    Ok(())
+}
+
+/// The legend, in its own panel right of the chart: per series its line, marker and label
+/// (then the diagonal's), top to bottom in the order given.
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<()> {
+    let font = ("sans-serif", 13).into_font().color(&BLACK);
+    let mut y = 40i32;
+    let mut entries: Vec<(Style, String)> = series.iter().enumerate().map(|(i, s)| (s.look(i), s.label.clone())).collect();
+    if spec.diagonal {
+        entries.push((Style { color: RGBColor(150, 150, 150), dash: Dash::Solid, width: 1, marker: Marker::None, max_markers: 0 }, "predicted = actual".into()));
+    }
+    for (st, label) in entries {
+        let line = ShapeStyle { color: st.color.to_rgba(), filled: false, stroke_width: st.width };
+        match st.dash {
+            Dash::Solid => area.draw(&PathElement::new(vec![(8, y), (40, y)], line)).map_err(|e| plot_err(path, e))?,
+            Dash::Dashed => area.draw(&PathElement::new(vec![(8, y), (18, y)], line)).and_then(|_| area.draw(&PathElement::new(vec![(26, y), (40, y)], line))).map_err(|e| plot_err(path, e))?,
+            Dash::None => {}
+        }
+        let fill = st.color.filled();
+        match st.marker {
+            Marker::None => {}
+            Marker::Circle => area.draw(&Circle::new((24, y), 4, fill)).map_err(|e| plot_err(path, e))?,
+            Marker::Square => area.draw(&Rectangle::new([(20, y - 4), (28, y + 4)], fill)).map_err(|e| plot_err(path, e))?,
+            Marker::Triangle => area.draw(&TriangleMarker::new((24, y), 6, fill)).map_err(|e| plot_err(path, e))?,
+        }
+        // long labels are wrapped at ", " to fit the panel
+        let mut lines: Vec<String> = vec![String::new()];
+        for (k, piece) in label.split(", ").enumerate() {
+            let last = lines.last_mut().expect("a line");
+            if k > 0 && last.len() + piece.len() + 2 > 28 {
+                last.push(',');
+                lines.push(format!("  {piece}"));
+            } else {
+                if k > 0 {
+                    last.push_str(", ");
+                }
+                last.push_str(piece);
+            }
+        }
+        for l in lines {
+            area.draw(&Text::new(l, (48, y - 7), font.clone())).map_err(|e| plot_err(path, e))?;
+            y += 17;
+        }
+        y += 6;
+    }
     Ok(())
 }

@@ -3,8 +3,9 @@
 //! and NLR reduced models at each excitation level, evaluates the error predictor, optionally
 //! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
-use super::plots::{write_plot, Legend, PlotSpec, Series};
-use super::study::{DampingSpec, ModelSpec, Study};
+use super::plots::{solver_color, write_plot, Dash, Legend, Marker, PlotSpec, Series, Style};
+use plotters::style::RGBColor;
+use super::study::{DampingSpec, FeSource, ModelSpec, Study};
 use jprom::aft::AftPlan;
 use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
@@ -114,7 +115,7 @@ fn gamma_study(
     gammas.sort_by(f64::total_cmp);
     gammas.dedup();
     let g_max = *gammas.last().expect("a gamma");
-    let (big, _) = predict_basis(coords, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
+    let (big, _) = predict_basis(coords, plan, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
     let mut out = Vec::new();
     for &g in &gammas {
         let basis = big.reconditioned(g)?;
@@ -192,7 +193,7 @@ pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
             damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
             Ok(model)
         }
-        ModelSpec::MatrixMarket { .. } | ModelSpec::Calculix { .. } => build_fe_model(study, progress),
+        ModelSpec::Fe(_) => build_fe_model(study, progress),
     }
 }
 
@@ -240,8 +241,12 @@ pub struct FeStudyModel {
 /// study whose model is not an FE model.
 pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> {
     let size = |p: &Path| std::fs::metadata(p).map(|m| format!(", {:.1} MB", m.len() as f64 / 1e6)).unwrap_or_default();
-    let (mut fe, nodes, damping) = match &study.model {
-        ModelSpec::MatrixMarket { mass, stiffness, dof_map, damping, .. } => {
+    let ModelSpec::Fe(spec) = &study.model else {
+        return Err(JpError::invalid("model.kind", "not an FE model"));
+    };
+    let damping = spec.damping.clone();
+    let (mut fe, nodes) = match &spec.source {
+        FeSource::MatrixMarket { mass, stiffness, dof_map } => {
             let step = progress.step(format!("reading model.stiffness ({}{})", stiffness.display(), size(stiffness)));
             let k = read_symmetric_matrix_market(stiffness).map_err(|e| with_key("model.stiffness", e))?;
             step.done_with(&format!(", {} x {}, {} stored entries", k.nrows(), k.ncols(), k.compute_nnz()));
@@ -261,18 +266,17 @@ pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> 
             }
             let fe = FeModel::from_dof_map(k, m, &map).map_err(|e| with_key("model.dof_map", e))?;
             let nodes = ModelNodes::of_fe_model(&fe, None, format!("the DoF map {}", dof_map.display()));
-            (fe, nodes, damping.clone())
+            (fe, nodes)
         }
-        ModelSpec::Calculix { deck, damping, .. } => {
+        FeSource::Calculix { deck } => {
             let files = CalculixFiles::of_job(deck);
             let step = progress.step(format!("reading the CalculiX job {} (.sti{}, .mas, .dof, deck)", files.inp.display(), size(&files.sti)));
             let ccx = read_model_files(&files).map_err(|e| with_key("model.deck", e))?;
             step.done_with(&format!(", {} DoFs", ccx.n()));
             let fe = FeModel::from_calculix(&ccx).map_err(|e| with_key("model.deck", e))?;
             let nodes = ModelNodes::of_fe_model(&fe, Some(ccx.node_sets.clone()), format!("the CalculiX job {}", files.inp.display())).with_mesh_nodes(ccx.coords.keys().copied());
-            (fe, nodes, damping.clone())
+            (fe, nodes)
         }
-        ModelSpec::Blade { .. } => return Err(JpError::invalid("model.kind", "not an FE model")),
     };
     if let Some(path) = &damping.matrix {
         let step = progress.step(format!("reading model.damping.matrix ({}{})", path.display(), size(path)));
@@ -494,31 +498,38 @@ fn energy_errors(rows: &mut [SolverRow], energies_at_peak: &[(usize, Vec<f64>, V
 
 /// The study's figures: FRF and dissipated energy per level, predicted vs actual error and
 /// error vs level over the levels, error vs basis size per level (gamma study).
+#[allow(clippy::too_many_arguments)]
 fn write_study_plots(
     study: &Study,
     out_dir: &Path,
     summary: &RunSummary,
     frf_series: &[(f64, Vec<Series>)],
     energy_series: &[(f64, Vec<Series>)],
+    e_star_series: &[(f64, Vec<Series>)],
     err_points: Vec<(String, Vec<(f64, f64)>)>,
 ) -> Result<()> {
+    let h = study.hbm.harmonics;
+    let (len_unit, energy_unit) = units(study);
+    let x1_label = format!("|X1| at the first output [{len_unit}]");
     for (level, series) in frf_series {
-        let title = format!("First harmonic at the output node, alpha = alpha_ST x {level:e}");
-        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+        let title = format!("First harmonic at the first output, alpha = alpha_ST x {level:e}, H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x1_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
         write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     for (level, series) in energy_series {
         let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
         let title = if stuck {
-            format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}")
+            format!("Every contact sticks at the FO resonance (no dissipation), alpha_ST x {level:e}, H = {h}")
         } else {
-            format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}")
+            format!("Dissipated energy per contact node at the FO resonance, alpha_ST x {level:e}, H = {h}")
         };
-        let spec = PlotSpec { title: &title, x_label: "contact node", y_label: "energy per cycle [mJ]", log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
+        let energy_label = format!("energy per cycle [{energy_unit}]");
+        let spec = PlotSpec { title: &title, x_label: "contact node (study order)", y_label: &energy_label, log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
         write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     if !err_points.is_empty() {
-        let mut series: Vec<Series> = err_points.into_iter().map(|(l, p)| Series::markers(l, p)).collect();
+        // the gamma study's points first (light), the levels' over them
+        let mut series: Vec<Series> = Vec::new();
         for solver in ["FR", "NLR"] {
             let pts: Vec<(f64, f64)> = summary
                 .basis_study
@@ -527,21 +538,40 @@ fn write_study_plots(
                 .filter_map(|r| Some((r.actual_e1?, r.predicted_e1?)))
                 .collect();
             if !pts.is_empty() {
-                series.push(Series::markers(format!("{solver}, gamma study"), pts));
+                let c = solver_color(solver);
+                let light = RGBColor(c.0 / 2 + 128, c.1 / 2 + 128, c.2 / 2 + 128);
+                let marker = if solver == "FR" { Marker::Square } else { Marker::Circle };
+                series.push(Series::markers(format!("{solver}, gamma study"), pts).styled(Style { color: light, dash: Dash::None, width: 1, marker, max_markers: 0 }));
             }
         }
-        let spec = PlotSpec { title: "Predicted e*_1 vs actual e_1 at the FO resonance (all levels)", x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
+        series.extend(err_points.into_iter().map(|(l, p)| Series::solver(format!("{l}, at each level"), p, false)));
+        let title = format!("Predicted e*_1 vs actual e_1 at the FO resonance (all levels), H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
         write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
         let mut by_solver: Vec<Series> = Vec::new();
         for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
             let p = (r.level, r.error_x1.unwrap().max(1e-16));
             match by_solver.iter_mut().find(|s| s.label == r.solver) {
                 Some(s) => s.points.push(p),
-                None => by_solver.push(Series::markers(r.solver.clone(), vec![p])),
+                None => {
+                    let dash = if r.solver == "FR" { Dash::Dashed } else { Dash::Solid };
+                    let marker = if r.solver == "FR" { Marker::Square } else { Marker::Triangle };
+                    by_solver.push(Series::solver(r.solver.clone(), vec![p], true).styled(Style { color: solver_color(&r.solver), dash, width: 2, marker, max_markers: 0 }))
+                }
             }
         }
-        let spec = PlotSpec { title: "Error of |X1| at resonance vs excitation level", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        let title = format!("Error of |X1| at the FO resonance vs excitation level, H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
         write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
+    }
+    for (level, series) in e_star_series.iter().filter(|(_, s)| !s.is_empty()) {
+        let mut series = series.clone();
+        let (lo, hi) = (study.band.hz_start, study.band.hz_end);
+        let threshold = study.basis.error_threshold;
+        series.push(Series::line(format!("threshold {threshold}"), vec![(lo, threshold), (hi, threshold)]).styled(Style { color: RGBColor(120, 120, 120), dash: Dash::Dashed, width: 1, marker: Marker::None, max_markers: 0 }));
+        let title = format!("Predicted error e*_1 along the reduced sweeps, alpha_ST x {level:e}, H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "predicted e*_1", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&out_dir.join(format!("predicted_error_vs_frequency_alpha_ST_x{level:e}.svg")), &spec, &series)?;
     }
     for &level in &study.forcing.levels {
         let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
@@ -568,7 +598,7 @@ fn write_study_plots(
                 }
             }
         }
-        let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}");
+        let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
         write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
     }
@@ -600,8 +630,6 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
     let step = progress.step("stuck mode and level reference");
     let coords = ContactCoordinates::new(&model, h)?;
     let mut popts = PredictionOptions::new(band);
-    popts.harmonics = h;
-    popts.nt = Some(study.hbm.nt);
     popts.gamma = study.basis.gamma;
     popts.n_samples = study.basis.samples;
     popts.modes.extra_outside = study.basis.extra_modes;
@@ -632,6 +660,8 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
     let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
     let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    // per level: e*_1 along each ROM's final sweep
+    let mut e_star_series: Vec<(f64, Vec<Series>)> = Vec::new();
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
     let mut basis_study_seconds = 0.0;
 
@@ -642,6 +672,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         let coords = ContactCoordinates::new(&model, h)?;
         let mut series = Vec::new();
         let mut energies = Vec::new();
+        let mut e_stars: Vec<Series> = Vec::new();
         let condensed = CondensedSystem::new(&model, &hopts)?;
         // full order
         let mut fo_peak: Option<PointSolution> = None;
@@ -669,8 +700,8 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
             let secs = t.elapsed().as_secs_f64();
             write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None, units(study))?;
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
-            series.push(Series::line("FO", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
-            energies.push(Series::markers("FO", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
+            series.push(Series::solver("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+            energies.push(Series::solver("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
             let warnings = sweep_warnings(&res, &p, band);
             fo_edge = peak_on_edge(&res, &p, band).map(|edge| {
                 format!("the full-order peak is on {edge} ({:.3} Hz): the errors \"at resonance\" are taken there, not at a resonance", p.omega / TWO_PI)
@@ -764,7 +795,9 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
             let res = &adaptive.sweep;
             let errors = &adaptive.predicted_errors;
             write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors), units(study))?;
-            series.push(Series::line(name, res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect()));
+            let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
+            series.push(Series::solver(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+            e_stars.push(Series::solver(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
             let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
             let mut warnings = sweep_warnings(res, p, band);
             if adaptive.worst_error > aopts.threshold {
@@ -819,7 +852,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
                 let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
                 energies_at_peak.push((rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
                 row.warnings.extend(fo_warning.iter().chain(&fo_edge).cloned());
-                energies.push(Series::markers(name, cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect()));
+                energies.push(Series::solver(rom_label.clone(), cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
                 if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
                     let label = name.to_string();
                     match err_points.iter_mut().find(|(l, _)| *l == label) {
@@ -839,6 +872,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         }
         frf_series.push((level, series));
         energy_series.push((level, energies));
+        e_star_series.push((level, e_stars));
     }
 
     energy_errors(&mut rows, &energies_at_peak);
@@ -866,7 +900,7 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
     };
     jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
     if study.output.plots {
-        write_study_plots(study, out_dir, &summary, &frf_series, &energy_series, err_points)?;
+        write_study_plots(study, out_dir, &summary, &frf_series, &energy_series, &e_star_series, err_points)?;
     }
     if !summary.basis_study.is_empty() {
         write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;

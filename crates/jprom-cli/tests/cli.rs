@@ -67,9 +67,14 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     // the FO sweep's line counts the points it really made (the CSV's rows)
     let fo_rows = std::fs::read_to_string(out_dir.join("alpha_ST_x1e-1_fo.csv")).unwrap().lines().count() - 1;
     assert!(err.contains(&format!("jprom: FO sweep, alpha_ST x 1e-1: done in")) && err.lines().any(|l| l.starts_with("jprom: FO sweep") && l.contains(&format!(", {fo_rows} points"))), "{fo_rows} points:\n{err}");
-    for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg"] {
+    for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg", "predicted_error_vs_frequency_alpha_ST_x1e-1.svg", "energy_alpha_ST_x1e-1.svg", "error_vs_level.svg"] {
         assert!(out_dir.join(file).exists(), "missing {file}");
     }
+    // the plots name H and the ROM's basis sizes and gamma in their legends
+    let frf = std::fs::read_to_string(out_dir.join("frf_alpha_ST_x1e-1.svg")).unwrap();
+    assert!(frf.contains("H = 1") && frf.contains("FO (condensed)") && frf.contains("NLR, n_h = [") && frf.contains("gamma = 1e3") && !frf.contains("FR,"), "frf legend");
+    let e_star = std::fs::read_to_string(out_dir.join("predicted_error_vs_frequency_alpha_ST_x1e-1.svg")).unwrap();
+    assert!(e_star.contains("predicted e*_1") && e_star.contains("threshold 0.05") && e_star.contains("NLR, n_h = ["), "e* plot");
     // peak |X1| of FO and NLR from the CSVs
     let peak = |name: &str| {
         let text = std::fs::read_to_string(out_dir.join(name)).unwrap();

@@ -26,3 +26,92 @@ fn svg_holds_title_axes_legend_and_every_point() {
     assert_eq!(svg2.matches("<circle").count(), 2 + 1);
     assert!(!svg2.contains("NaN") && !svg2.contains("inf"));
 }
+
+/// The texts of an SVG (`<text ...>` contents), with their `x`.
+fn texts(svg: &str) -> Vec<(f64, String)> {
+    svg.split("<text").skip(1).map(|t| {
+        let x = t.split("x=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
+        let body = t.split_once('>').unwrap().1.split("</text>").next().unwrap().trim().to_string();
+        (x, body)
+    }).collect()
+}
+
+/// `(stroke, stroke-width)` of each `<polyline>`, in document (drawing) order.
+fn polylines(svg: &str) -> Vec<(String, String)> {
+    let attr = |t: &str, a: &str| t.split(&format!("{a}=\"")).nth(1).unwrap().split('"').next().unwrap().to_string();
+    svg.split("<polyline").skip(1).map(|t| (attr(t, "stroke"), attr(t, "stroke-width"))).collect()
+}
+
+fn write(name: &str, spec: &PlotSpec, series: &[Series]) -> String {
+    let dir = std::env::temp_dir().join(format!("jprom-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    write_plot(&path, spec, series).unwrap();
+    std::fs::read_to_string(&path).unwrap()
+}
+
+/// An FRF as the runner draws it: one look per solver (FO black, FR red dashed, NLR blue),
+/// FO drawn last (on top), markers on at most 12 points, the legend right of the chart in the
+/// given order with the basis sizes and gamma, the title and axis labels.
+#[test]
+fn frf_svg_has_three_solver_series_fo_on_top_and_the_legend_outside() {
+    let curve = |scale: f64| (0..200).map(|i| (2140.0 + 0.25 * i as f64, scale * (1.0 + (i as f64 / 30.0).sin()))).collect::<Vec<_>>();
+    let series = [
+        Series::solver("FO (condensed)", curve(1.0), true),
+        Series::solver("FR, n_h = [38, 18], gamma = 1e3", curve(1.001), true),
+        Series::solver("NLR, n_h = [38, 9], gamma = 1e3", curve(0.999), true),
+    ];
+    let spec = PlotSpec { title: "First harmonic, alpha = alpha_ST x 1e-1, H = 3", x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+    let svg = write("frf.svg", &spec, &series);
+    let t = texts(&svg);
+    for want in ["First harmonic, alpha = alpha_ST x 1e-1, H = 3", "frequency [Hz]", "|X1| [mm]"] {
+        assert!(t.iter().any(|(_, s)| s == want), "no text '{want}'");
+    }
+    // the legend: right of the 760-pixel chart, one entry per series, in order, sizes and gamma kept
+    let legend: String = t.iter().filter(|(x, _)| *x >= 760.0).map(|(_, s)| s.as_str()).collect::<Vec<_>>().join(" ");
+    let (fo, fr, nlr) = (legend.find("FO (condensed)").unwrap(), legend.find("FR, n_h = [38, 18],").unwrap(), legend.find("NLR, n_h = [38, 9],").unwrap());
+    assert!(fo < fr && fr < nlr, "{legend}");
+    assert_eq!(legend.matches("gamma = 1e3").count(), 2, "{legend}");
+    // the lines: FO black 2 px, FR red 3 px (dashed: many pieces), NLR light blue 6 px; each once
+    // in the chart and once in the legend
+    let lines = polylines(&svg);
+    let count = |c: &str, w: &str| lines.iter().filter(|l| l.0 == c && l.1 == w).count();
+    assert_eq!(count("#000000", "2"), 2, "FO");
+    assert_eq!(count("#8CB9DC", "6"), 2, "NLR");
+    assert!(count("#D62728", "3") > 10, "FR is dashed");
+    // FO is drawn after the other solvers' lines (on top): its chart line comes after NLR's and
+    // after the last piece of FR's dashed line (the legend's two pieces are the last ones)
+    let at = |c: &str, w: &str| lines.iter().enumerate().filter(|(_, l)| l.0 == c && l.1 == w).map(|(i, _)| i).collect::<Vec<_>>();
+    let (fo_at, fr_at, nlr_at) = (at("#000000", "2"), at("#D62728", "3"), at("#8CB9DC", "6"));
+    assert!(fo_at[0] > nlr_at[0] && fo_at[0] > fr_at[fr_at.len() - 3], "FO not on top: FO {fo_at:?}, NLR {nlr_at:?}");
+    // markers: FO circles on 12 points (+1 in the legend), FR squares, NLR triangles
+    assert_eq!(svg.matches("<circle").count(), 12 + 1);
+    assert!(svg.matches("<polygon").count() >= 12, "NLR triangles");
+}
+
+/// Log axes: decades labelled, the one at the bottom too, no label repeated; a point on a
+/// decade (error vs level with the levels 0.05 and 0.1) lies inside the chart, not on its frame.
+#[test]
+fn log_axes_label_decades_once_and_keep_edge_points_inside() {
+    let series = [
+        Series::solver("FR", vec![(0.05, 2.1e-4), (0.1, 3.7e-5)], true),
+        Series::solver("NLR", vec![(0.05, 2.0e-4), (0.1, 3.5e-5)], true),
+    ];
+    let spec = PlotSpec { title: "Error of |X1| vs level, H = 1", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
+    let svg = write("level.svg", &spec, &series);
+    let ticks: Vec<String> = texts(&svg).into_iter().filter(|(x, _)| *x < 760.0).map(|(_, s)| s).filter(|s| s.contains('e') && s.len() < 8).collect();
+    for want in ["1e-2", "1e-1", "1e0", "1e-5", "1e-4", "1e-3"] {
+        assert!(ticks.iter().any(|t| t == want), "no tick '{want}' in {ticks:?}");
+    }
+    let mut unique = ticks.clone();
+    unique.sort();
+    unique.dedup();
+    assert_eq!(unique.len(), ticks.len(), "repeated tick labels: {ticks:?}");
+    // the markers (FR squares as rects, NLR triangles) of the points at 0.1 are inside the chart
+    let xs: Vec<f64> = svg.split("<polygon").skip(1).flat_map(|p| {
+        let pts = p.split("points=\"").nth(1).unwrap().split('"').next().unwrap().to_string();
+        pts.split(' ').filter_map(|xy| xy.split(',').next().and_then(|x| x.parse::<f64>().ok())).collect::<Vec<_>>()
+    }).filter(|x| *x < 760.0).collect();
+    assert!(!xs.is_empty());
+    assert!(xs.iter().all(|&x| x > 92.0 + 1.0 && x < 748.0 - 1.0), "a marker on the frame: {xs:?}");
+}
