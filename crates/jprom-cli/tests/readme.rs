@@ -125,3 +125,34 @@ fn install_sections_match_packaging_and_ci() {
         }
     }
 }
+
+/// Issue 19: the licence files Cargo.toml's `license` names exist and the README points to
+/// them; the default output folders of `jprom demo` (main.rs) and of a study (study.rs) are
+/// git-ignored, as the README says.
+#[test]
+fn licence_files_and_ignored_output_folders_are_as_the_readme_says() {
+    let toml = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    assert!(toml.lines().any(|l| l.trim() == "license = \"MIT OR Apache-2.0\""), "workspace licence");
+    let text = readme();
+    let mit = std::fs::read_to_string(root().join("LICENSE-MIT")).unwrap();
+    assert!(mit.contains("Permission is hereby granted, free of charge") && mit.contains("Copyright (c) the jprom developers"));
+    let apache = std::fs::read_to_string(root().join("LICENSE-APACHE")).unwrap();
+    assert!(apache.contains("Apache License") && apache.contains("Version 2.0, January 2004") && apache.contains("END OF TERMS AND CONDITIONS"));
+    assert!(text.contains("(LICENSE-APACHE)") && text.contains("(LICENSE-MIT)"), "README links the licence files");
+
+    let ignore = std::fs::read_to_string(root().join(".gitignore")).unwrap();
+    let main = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/main.rs")).unwrap();
+    let study = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/study.rs")).unwrap();
+    assert!(main.contains("PathBuf::from(\"jprom-demo\")"), "the demo's default folder is jprom-demo");
+    assert!(study.contains("dir: PathBuf::from(\"jprom-out\")"), "a study's default output.dir is jprom-out");
+    for dir in ["jprom-demo", "jprom-out"] {
+        assert!(ignore.lines().any(|l| l.trim() == format!("{dir}/")), ".gitignore lacks {dir}/");
+        assert!(text.contains(&format!("`{dir}/`")), "README does not name {dir}/");
+    }
+    // the README's output section names every plot file the runner writes
+    let run = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/run.rs")).unwrap();
+    for prefix in ["frf_", "predicted_error_vs_frequency_", "energy_"] {
+        assert!(run.contains(&format!("\"{prefix}alpha_ST_x{{level:e}}.svg\"")), "run.rs writes {prefix}*");
+        assert!(text.contains(&format!("`{prefix}*`")), "README does not name {prefix}*");
+    }
+}
