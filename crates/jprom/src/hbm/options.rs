@@ -18,7 +18,8 @@ pub struct HbmOptions {
     /// (default `1e-14`).
     pub step_tolerance: f64,
     /// Most Newton iterations (Jacobian evaluations) per point, all attempts together: the
-    /// solve from the guess gets a quarter of them, the load-stepping fallback the rest
+    /// solve from the guess gets a quarter of them, the load-stepping fallback half of the rest
+    /// and the continuation in the forcing level what is left
     /// (default 400; a point that converges at all usually takes fewer than 10, but a reduced
     /// model solved from zero near a resonance in partial slip was measured at 94).
     pub max_iterations: usize,

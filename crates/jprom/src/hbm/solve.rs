@@ -166,7 +166,8 @@ pub fn solve_point(
     finish_point(system, plan.as_ref(), omega, outcome, &mut ws)
 }
 
-/// Newton from `z0`, then, if it does not converge, load stepping (see [`load_stepping`]); all
+/// Newton from `z0`, then, if it does not converge, load stepping (see [`load_stepping`]) with
+/// half of the rest, then continuation in the level (see [`level_continuation`]); all
 /// attempts together use at most `opts.max_iterations` Jacobian evaluations, and the outcome
 /// reports them all. The first attempt gets a quarter of the budget (a point that converges at
 /// all usually does so in a few iterations).
@@ -184,14 +185,31 @@ pub(crate) fn solve_with_fallback(
     match newton(system, lin, plan, z0.clone(), opts, first, omega, ws) {
         Ok(o) => Ok(o),
         Err(NotConverged { iterations, error: e @ JpError::NoConvergence { .. }, .. }) if budget > iterations + 1 => {
-            load_stepping(system, lin, plan, z0, opts, budget - iterations, omega, ws).map(|mut o| {
+            // load stepping gets half of what is left; if it stops at a fold in the level (the
+            // response at this frequency has several branches), the arclength continuation in
+            // the level follows the branch round it with the rest
+            let left = budget - iterations;
+            let share = (left / 2).max(1);
+            let staged = match load_stepping(system, lin, plan, z0.clone(), opts, share, omega, ws) {
+                Err(JpError::NoConvergence { iterations: it2, .. }) if left > it2 + 1 => {
+                    level_continuation(system, lin, plan, z0, opts, left - it2, omega, ws).map(|mut o| {
+                        o.iterations += it2;
+                        o
+                    }).map_err(|e| match e {
+                        JpError::NoConvergence { iterations: it3, residual, .. } => JpError::NoConvergence { what: String::new(), iterations: it2 + it3, residual },
+                        other => other,
+                    })
+                }
+                other => other,
+            };
+            staged.map(|mut o| {
                 o.iterations += iterations;
                 o
             }).map_err(|ls| match ls {
                 // report the first attempt's residual, and all iterations spent
                 JpError::NoConvergence { iterations: it2, .. } => match e {
                     JpError::NoConvergence { what, residual, .. } => JpError::NoConvergence {
-                        what: format!("{what}, then load stepping"),
+                        what: format!("{what}, then load stepping and continuation in the forcing level"),
                         iterations: iterations + it2,
                         residual,
                     },
@@ -274,4 +292,184 @@ fn load_stepping(
     }
     current.iterations = used;
     Ok(current)
+}
+
+/// The HBM equations with the dynamic forcing scaled by `lambda`, `y = (z, lambda)`, bordered
+/// by the arclength constraint `(S t)^T (y - y_p) / ds = 0` (`S = diag(1 / z_ref^2, 1)`).
+struct LevelProblem<'a> {
+    system: &'a dyn HarmonicSystem,
+    /// The linear part at `lambda = 0` (static force only).
+    lin0: &'a LinearPart,
+    plan: Option<&'a AftPlan>,
+    ws: &'a mut ResidualWorkspace,
+    /// `f_dyn / f_ref`: `R(z, lambda) = R(z, 0) - lambda f_dyn`.
+    g: &'a [f64],
+    f_ref: f64,
+    /// `S t` and the predictor; `None` while computing the residual alone.
+    constraint: Option<(Vec<f64>, Vec<f64>)>,
+    ds: f64,
+    omega: f64,
+}
+
+impl LevelProblem<'_> {
+    /// `R(z, lambda) / f_ref` and `[J_z  -f_dyn] / f_ref`.
+    fn top(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+        let n = y.len() - 1;
+        let (mut r, jz) = evaluate(self.system, self.lin0, self.plan, &y[..n], want_jacobian, self.ws)?;
+        let s = 1.0 / self.f_ref;
+        for (i, v) in r.iter_mut().enumerate() {
+            *v = *v * s - y[n] * self.g[i];
+        }
+        Ok((r, jz.map(|jz| Mat::from_fn(n, n + 1, |i, j| if j < n { s * jz[(i, j)] } else { -self.g[i] }))))
+    }
+}
+
+impl NonlinearProblem for LevelProblem<'_> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+        let n = y.len() - 1;
+        let (mut r, top) = self.top(y, want_jacobian)?;
+        let (st, yp) = self.constraint.as_ref().expect("a constraint is set before solving");
+        r.push((0..=n).map(|i| st[i] * (y[i] - yp[i])).sum::<f64>() / self.ds);
+        let jac = top.map(|top| Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { st[j] / self.ds }));
+        Ok((r, jac))
+    }
+    fn what(&self) -> String {
+        format!("continuation in the forcing level at omega = {}", self.omega)
+    }
+}
+
+/// Fallback when load stepping stops at a fold in the forcing level (at a frequency where the
+/// response has several branches, the branch that starts from the static solution can turn
+/// back in the level before reaching it): pseudo-arclength continuation of `R(z, lambda) = 0`
+/// in `(z, lambda)` from the `lambda = 0` solution, tangent oriented along the previous one,
+/// corrected points kept only ahead of the last one, until `lambda` passes 1; then Newton at
+/// `lambda = 1` from the interpolated point. At most `budget` Jacobian evaluations in all.
+///
+/// # Errors
+/// [`JpError::NoConvergence`] with the iterations spent when the budget runs out, the step
+/// falls below `1e-6` or the branch runs back below `lambda = -1`; a singular system's error.
+#[allow(clippy::too_many_arguments)]
+fn level_continuation(
+    system: &dyn HarmonicSystem,
+    lin: &LinearPart,
+    plan: Option<&AftPlan>,
+    z0: Vec<f64>,
+    opts: &HbmOptions,
+    budget: usize,
+    omega: f64,
+    ws: &mut ResidualWorkspace,
+) -> Result<NewtonOutcome> {
+    let no_convergence = |iterations: usize, residual: f64| JpError::NoConvergence {
+        what: format!("HBM continuation in the forcing level at omega = {omega}"),
+        iterations,
+        residual,
+    };
+    let mut lin0 = lin.clone();
+    for f in lin0.fh_cos.iter_mut().chain(lin0.fh_sin.iter_mut()) {
+        f.iter_mut().for_each(|v| *v = 0.0);
+    }
+    let start = newton(system, &lin0, plan, z0, opts, budget, omega, ws).map_err(|f| match f.error {
+        JpError::NoConvergence { .. } => no_convergence(f.iterations, f.residual_norm),
+        e => e,
+    })?;
+    let mut used = start.iterations.max(1);
+    let layout = system.layout();
+    let f_ref = reference_force(lin, 0.0, 1.0);
+    // f_dyn = R(z, 0) - R(z, 1) for the linear part (the contact forces cancel)
+    let (r0, r1) = (super::residual::linear_residual(layout, &lin0, &start.z), super::residual::linear_residual(layout, lin, &start.z));
+    let g: Vec<f64> = r0.iter().zip(&r1).map(|(a, b)| (a - b) / f_ref).collect();
+    let n = start.z.len();
+    let mut y: Vec<f64> = start.z.iter().copied().chain([0.0]).collect();
+    let mut problem = LevelProblem { system, lin0: &lin0, plan, ws, g: &g, f_ref, constraint: None, ds: 1.0, omega };
+    let mut t_prev = vec![0.0; n + 1];
+    t_prev[n] = 1.0;
+    let mut sz: Option<f64> = None;
+    let mut ds = 0.1;
+    let settings = NewtonSettings {
+        tolerance: opts.residual_tolerance,
+        step_tolerance: opts.step_tolerance,
+        max_iterations: 12,
+        trust_region: true,
+        initial_radius_factor: 1.0,
+        scaling: opts.scaling,
+    };
+    while used < budget {
+        // tangent: [J_z  -g; (S t_prev)^T] t = [0; 1]
+        let (_, top) = problem.top(&y, true)?;
+        used += 1;
+        let top = top.expect("jacobian requested");
+        let weights = |sz: f64| (0..=n).map(|i| if i < n { sz } else { 1.0 }).collect::<Vec<f64>>();
+        let w = weights(sz.unwrap_or(1.0));
+        let b = Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { w[j] * t_prev[j] });
+        let mut rhs = vec![0.0; n + 1];
+        rhs[n] = 1.0;
+        let t_raw = crate::linalg::EquilibratedLu::new(&b, &format!("level continuation tangent at omega = {omega}"))?.solve(&rhs);
+        // z scaled by |dz/dlambda| at the start: a unit of arclength first moves lambda by ~1
+        let sz = *sz.get_or_insert_with(|| {
+            let dz = norm2(&t_raw[..n]) / t_raw[n].abs().max(1e-300);
+            if dz.is_finite() && dz > 0.0 { 1.0 / (dz * dz) } else { 1.0 }
+        });
+        let w = weights(sz);
+        let len = (0..=n).map(|i| w[i] * t_raw[i] * t_raw[i]).sum::<f64>().sqrt();
+        if !(len.is_finite() && len > 0.0) {
+            return Err(JpError::singular(format!("level continuation tangent at omega = {omega}")));
+        }
+        let mut t: Vec<f64> = t_raw.iter().map(|v| v / len).collect();
+        if (0..=n).map(|i| w[i] * t[i] * t_prev[i]).sum::<f64>() < 0.0 {
+            t.iter_mut().for_each(|v| *v = -*v);
+        }
+        let st: Vec<f64> = (0..=n).map(|i| w[i] * t[i]).collect();
+        loop {
+            if ds < 1e-6 || used >= budget {
+                return Err(no_convergence(used.min(budget), f64::NAN));
+            }
+            let yp: Vec<f64> = (0..=n).map(|i| y[i] + ds * t[i]).collect();
+            problem.constraint = Some((st.clone(), yp.clone()));
+            problem.ds = ds;
+            let s = NewtonSettings { max_iterations: settings.max_iterations.min(budget - used), ..settings };
+            match super::newton::solve(&mut problem, yp, &s) {
+                Ok(c) if (0..=n).map(|i| st[i] * (c.x[i] - y[i])).sum::<f64>() > 0.0 => {
+                    used += c.iterations.max(1);
+                    let y_new = c.x;
+                    if y_new[n] >= 1.0 {
+                        // Newton at lambda = 1 from the point interpolated there
+                        let a = (1.0 - y[n]) / (y_new[n] - y[n]);
+                        let guess: Vec<f64> = (0..n).map(|i| y[i] + a * (y_new[i] - y[i])).collect();
+                        let left = budget.saturating_sub(used);
+                        if left == 0 {
+                            return Err(no_convergence(used, f64::NAN));
+                        }
+                        return match newton(system, lin, plan, guess, opts, left, omega, problem.ws) {
+                            Ok(mut o) => {
+                                o.iterations += used;
+                                Ok(o)
+                            }
+                            Err(f) => Err(match f.error {
+                                JpError::NoConvergence { .. } => no_convergence(used + f.iterations, f.residual_norm),
+                                e => e,
+                            }),
+                        };
+                    }
+                    if y_new[n] < -1.0 {
+                        return Err(no_convergence(used, f64::NAN));
+                    }
+                    if c.iterations <= 4 {
+                        ds = (1.5 * ds).min(0.5);
+                    }
+                    y = y_new;
+                    t_prev = t;
+                    break;
+                }
+                Ok(c) => {
+                    used += c.iterations.max(1);
+                    ds *= 0.5;
+                }
+                Err(f) => {
+                    used += f.iterations.max(1);
+                    ds *= 0.5;
+                }
+            }
+        }
+    }
+    Err(no_convergence(used.min(budget), f64::NAN))
 }
