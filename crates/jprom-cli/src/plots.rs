@@ -190,7 +190,7 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 fn tick(v: f64, log: bool, decades: f64) -> String {
     if !log {
         let a = v.abs();
-        return if a != 0.0 && (a >= 1e5 || a < 1e-3) { format!("{v:.1e}") } else { format!("{}", (v * 1e6).round() / 1e6) };
+        return if a != 0.0 && !(1e-3..1e5).contains(&a) { format!("{v:.1e}") } else { format!("{}", (v * 1e6).round() / 1e6) };
     }
     let e = v.log10().floor();
     let mantissa = v / 10f64.powf(e);

@@ -401,11 +401,7 @@ pub fn units(study: &Study) -> (&'static str, &'static str) {
 
 /// The harmonic count `H` of a point (its outputs hold `2H + 1` coefficients per output).
 fn harmonics_of(p: &PointSolution) -> usize {
-    if p.n_outputs == 0 {
-        0
-    } else {
-        (p.outputs.len() / p.n_outputs).saturating_sub(1) / 2
-    }
+    p.outputs.len().checked_div(p.n_outputs).map_or(0, |k| k.saturating_sub(1) / 2)
 }
 
 fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)) -> Result<()> {

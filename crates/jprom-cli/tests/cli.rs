@@ -66,7 +66,7 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     }
     // the FO sweep's line counts the points it really made (the CSV's rows)
     let fo_rows = std::fs::read_to_string(out_dir.join("alpha_ST_x1e-1_fo.csv")).unwrap().lines().count() - 1;
-    assert!(err.contains(&format!("jprom: FO sweep, alpha_ST x 1e-1: done in")) && err.lines().any(|l| l.starts_with("jprom: FO sweep") && l.contains(&format!(", {fo_rows} points"))), "{fo_rows} points:\n{err}");
+    assert!(err.contains("jprom: FO sweep, alpha_ST x 1e-1: done in") && err.lines().any(|l| l.starts_with("jprom: FO sweep") && l.contains(&format!(", {fo_rows} points"))), "{fo_rows} points:\n{err}");
     for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg", "predicted_error_vs_frequency_alpha_ST_x1e-1.svg", "energy_alpha_ST_x1e-1.svg", "error_vs_level.svg"] {
         assert!(out_dir.join(file).exists(), "missing {file}");
     }

@@ -62,7 +62,7 @@ fn frf_svg_has_three_solver_series_fo_on_top_and_the_legend_outside() {
         Series::solver("NLR, n_h = [38, 9], gamma = 1e3", curve(0.999), true),
     ];
     let spec = PlotSpec { title: "First harmonic, alpha = alpha_ST x 1e-1, H = 3", x_label: "frequency [Hz]", y_label: "|X1| [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
-    let svg = write("frf.svg", &spec, &series);
+    let svg = write("solvers_frf.svg", &spec, &series);
     let t = texts(&svg);
     for want in ["First harmonic, alpha = alpha_ST x 1e-1, H = 3", "frequency [Hz]", "|X1| [mm]"] {
         assert!(t.iter().any(|(_, s)| s == want), "no text '{want}'");
@@ -98,7 +98,7 @@ fn log_axes_label_decades_once_and_keep_edge_points_inside() {
         Series::solver("NLR", vec![(0.05, 2.0e-4), (0.1, 3.5e-5)], true),
     ];
     let spec = PlotSpec { title: "Error of |X1| vs level, H = 1", x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
-    let svg = write("level.svg", &spec, &series);
+    let svg = write("solvers_level.svg", &spec, &series);
     let ticks: Vec<String> = texts(&svg).into_iter().filter(|(x, _)| *x < 760.0).map(|(_, s)| s).filter(|s| s.contains('e') && s.len() < 8).collect();
     for want in ["1e-2", "1e-1", "1e0", "1e-5", "1e-4", "1e-3"] {
         assert!(ticks.iter().any(|t| t == want), "no tick '{want}' in {ticks:?}");
