@@ -18,7 +18,7 @@ use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::error::{JpError, Result};
 use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
-use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepResult};
+use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
 use jprom::level::stuck_limit;
 use jprom::jp::prediction::PredictionOptions;
 use jprom::jp::predict_basis;
@@ -611,15 +611,247 @@ pub fn run_study(study: &Study, out_dir: &Path, show_progress: bool) -> Result<R
     run_study_with(study, out_dir, if show_progress { Progress::Bars } else { Progress::Quiet })
 }
 
-/// [`run_study`], showing progress on `progress`: the model's import and Craig-Bampton, the
-/// stuck mode and level reference, each sweep and each basis prediction with its sweep.
+/// The full-order (condensed) sweep of one level: its CSV, its row, its curves. `None` when it
+/// failed or found no point (the failure is in its row; the ROMs still run).
+fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSystem, c: &mut Collected, series: &mut LevelSeries) -> Result<Option<FoPeak>> {
+    let mut bar = run.progress.points(format!("FO sweep, alpha_ST x {level:e}"));
+    let t = Instant::now();
+    let res = sweep(condensed, &run.sopts, &run.hopts, &mut |p| {
+        bar.point(p.omega / TWO_PI);
+        ControlFlow::Continue(())
+    });
+    bar.done(&res.as_ref().map(|r| format!(", {}", r.end.name())).unwrap_or_else(|_| ", failed".into()));
+    let res = match res {
+        Ok(r) => r,
+        Err(e) => {
+            c.rows.push(failed_row(level, "FO (condensed)", condensed.layout().sizes.clone(), &e));
+            SweepResult::empty()
+        }
+    };
+    if res.points.is_empty() {
+        // the failure is in its row; the ROMs still run
+        return Ok(None);
+    }
+    let secs = t.elapsed().as_secs_f64();
+    write_csv(&run.out_dir.join(format!("{tag}_fo.csv")), &res, None, units(run.study))?;
+    let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
+    series.frf.push(Series::solver("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.energies.push(Series::solver("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
+    let warnings = sweep_warnings(&res, &p, run.band);
+    let edge = peak_on_edge(&res, &p, run.band).map(|edge| {
+        format!("the full-order peak is on {edge} ({:.3} Hz): the errors \"at resonance\" are taken there, not at a resonance", p.omega / TWO_PI)
+    });
+    let warning = (!res.reached_end()).then(|| format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
+    c.energies_at_peak.push((c.rows.len(), p.contact_cycles.iter().map(|c| c.dissipated_energy).collect(), Vec::new()));
+    c.rows.push(SolverRow {
+        level,
+        solver: "FO (condensed)".into(),
+        sizes: condensed.layout().sizes.clone(),
+        points: res.points.len(),
+        sweep_seconds: secs,
+        basis_seconds: 0.0,
+        corrections: 0,
+        peak_hz: p.omega / TWO_PI,
+        peak_x1: p.output_amplitude(1, 0),
+        peak_x0: p.output_coeff(0, 0),
+        error_x1: None,
+        error_x0: None,
+        predicted_e1: None,
+        actual_e1: None,
+        energy_error: None,
+        end: res.end.name().into(),
+        end_reason: end_reason(&res),
+        complete: res.reached_end(),
+        warnings,
+        worst_error: None,
+    });
+    Ok(Some(FoPeak { point: p, warning, edge }))
+}
+
+/// One reduced model's self-correcting sweep at one level (predicted basis, reduced sweep, `e*`
+/// at every point, corrections while `e*_1` is above the threshold): its CSV, its row with the
+/// errors at the full-order peak `fo_peak`, its curves. A failure goes into its row.
+#[allow(clippy::too_many_arguments)]
+fn reduced_level(
+    run: &Run,
+    level: f64,
+    tag: &str,
+    (name, kind): (&str, RomKind),
+    model: &Model,
+    coords: &ContactCoordinates,
+    condensed: &CondensedSystem,
+    fo_peak: Option<&FoPeak>,
+    c: &mut Collected,
+    series: &mut LevelSeries,
+) -> Result<()> {
+    // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
+    // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
+    let aopts = AdaptiveOptions { kind, threshold: run.study.basis.error_threshold, max_corrections: run.study.basis.max_corrections, ..AdaptiveOptions::default() };
+    let t = Instant::now();
+    // the basis time: from the start to the first reduced point (prediction, the ROM's
+    // construction and its first solve), and between the last point of a pass and the
+    // first of the next (the error checks that judged the pass, the correction's
+    // prediction, the new ROM); the reduced continuation steps are the rest
+    let mut basis_step = Some(run.progress.step(format!("{name} basis prediction, alpha_ST x {level:e}")));
+    let mut points: Option<jprom_progress::Points> = None;
+    let mut pass_now = usize::MAX;
+    let mut since = Instant::now();
+    let mut basis_seconds = 0.0;
+    let adaptive = adaptive_sweep_with_progress(model, &run.popts, &run.sopts, &run.hopts, &aopts, &mut |pass, p| {
+        if pass != pass_now {
+            let gap = since.elapsed().as_secs_f64();
+            basis_seconds += gap;
+            if let Some(step) = basis_step.take() {
+                step.done();
+            }
+            if let Some(prev) = points.take() {
+                prev.done(&format!(", then error checks and basis correction {pass} in {gap:.1} s"));
+            }
+            points = Some(run.progress.points(format!("{name} sweep, alpha_ST x {level:e}, basis {pass}")));
+            pass_now = pass;
+        }
+        if let Some(pts) = points.as_mut() {
+            pts.point(p.omega / TWO_PI);
+        }
+        since = Instant::now();
+        ControlFlow::Continue(())
+    });
+    drop(basis_step);
+    if let Some(pts) = points.take() {
+        pts.done(&adaptive.as_ref().map(|a| format!(", {}, worst e*_1 {:.2e}", a.sweep.end.name(), a.worst_error)).unwrap_or_else(|e| format!(", failed: {e}")));
+    }
+    let adaptive = match adaptive {
+        Ok(a) => a,
+        Err(e) => {
+            c.rows.push(failed_row(level, name, Vec::new(), &e));
+            return Ok(());
+        }
+    };
+    let secs = t.elapsed().as_secs_f64();
+    let basis = &adaptive.basis;
+    let rom = reduced_model(kind, coords, Some(condensed), basis)?;
+    let res = &adaptive.sweep;
+    let errors = &adaptive.predicted_errors;
+    write_csv(&run.out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors), units(run.study))?;
+    let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
+    series.frf.push(Series::solver(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.e_stars.push(Series::solver(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
+    let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
+    let mut warnings = sweep_warnings(res, p, run.band);
+    if adaptive.worst_error > aopts.threshold {
+        warnings.push(format!(
+            "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({:?})",
+            adaptive.worst_error,
+            aopts.threshold,
+            adaptive.corrections.len(),
+            adaptive.end
+        ));
+    }
+    let mut row = SolverRow {
+        level,
+        solver: name.to_string(),
+        sizes: rom.layout().sizes.clone(),
+        points: res.points.len(),
+        sweep_seconds: secs,
+        basis_seconds,
+        corrections: adaptive.corrections.len(),
+        peak_hz: p.omega / TWO_PI,
+        peak_x1: p.output_amplitude(1, 0),
+        peak_x0: p.output_coeff(0, 0),
+        error_x1: None,
+        error_x0: None,
+        predicted_e1: None,
+        actual_e1: None,
+        energy_error: None,
+        end: res.end.name().into(),
+        end_reason: end_reason(res),
+        complete: res.reached_end(),
+        warnings,
+        worst_error: Some(adaptive.worst_error),
+    };
+    if let Some(FoPeak { point: fo, warning: fo_warning, edge: fo_edge }) = fo_peak {
+        // the ROM at the full-order resonance frequency, from its nearest sweep point
+        let guess = res.points.iter().min_by(|a, b| (a.omega - fo.omega).abs().total_cmp(&(b.omega - fo.omega).abs())).map(|q| q.z.clone());
+        let r = match solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &run.hopts) {
+            Ok(r) => r,
+            Err(e) => {
+                row.warnings.push(format!("no errors: the reduced model did not converge at the full-order peak ({e})"));
+                c.rows.push(row);
+                return Ok(());
+            }
+        };
+        row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
+        row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+        let e_star = predicted_error(rom.as_ref(), &run.plan, r.omega, &r.z)?;
+        let e = actual_error(rom.as_ref(), &run.plan, r.omega, &r.z, fo)?;
+        row.predicted_e1 = e_star.get(1).copied();
+        row.actual_e1 = e.get(1).copied();
+        let cycles = reduced_contact_cycles(rom.as_ref(), &run.plan, r.omega, &r.z)?;
+        let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
+        c.energies_at_peak.push((c.rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
+        row.warnings.extend(fo_warning.iter().chain(fo_edge.iter()).cloned());
+        series.energies.push(Series::solver(rom_label.clone(), cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
+        if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
+            let label = name.to_string();
+            match c.err_points.iter_mut().find(|(l, _)| *l == label) {
+                Some((_, v)) => v.push((a, ps)),
+                None => c.err_points.push((label, vec![(a, ps)])),
+            }
+        }
+    }
+    c.rows.push(row);
+    Ok(())
+}
+
+/// The settings every level of a run uses.
+struct Run<'a> {
+    study: &'a Study,
+    out_dir: &'a Path,
+    progress: Progress,
+    hopts: HbmOptions,
+    /// The band (rad/s).
+    band: (f64, f64),
+    sopts: SweepOptions,
+    plan: AftPlan,
+    popts: PredictionOptions,
+}
+
+/// What the levels add up to: the table's rows, each full-order peak's energies per contact
+/// (with each ROM's there, for the energy errors), the (actual, predicted) error pairs per ROM.
+#[derive(Default)]
+struct Collected {
+    rows: Vec<SolverRow>,
+    energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)>,
+    err_points: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+/// One level's curves for the plots: response, energies at the peak, `e*_1` along each ROM sweep.
+#[derive(Default)]
+struct LevelSeries {
+    frf: Vec<Series>,
+    energies: Vec<Series>,
+    e_stars: Vec<Series>,
+}
+
+/// A level's full-order peak and what the ROM rows must say about it.
+struct FoPeak {
+    point: PointSolution,
+    /// The full-order sweep did not cover the band.
+    warning: Option<String>,
+    /// The peak is on the band edge.
+    edge: Option<String>,
+}
+
+/// [`run_study`] showing its stages on `progress`: the model, the stuck mode and the level
+/// reference once, then at each level the full-order sweep ([`full_order_level`]), each
+/// reduced model's self-correcting sweep ([`reduced_level`]) and the gamma study; then the
+/// energy errors, `summary.json`, the plots and `basis_study.csv`.
 ///
 /// # Errors
-/// As [`run_study`].
+/// The model's errors, a file that cannot be written; a sweep that fails is a row of the table.
 pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Result<RunSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
     let h = study.hbm.harmonics;
-    let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
     let mut model = build_model_with(study, progress)?;
@@ -647,230 +879,44 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         study_warnings.extend(warning);
     }
     let build_seconds = t.elapsed().as_secs_f64();
-    let mut rows = Vec::new();
     // about `points` points where the response is smooth, more at resonances and folds
     let sopts = study.band.sweep_options();
     sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
-    // per level: the FO peak's energies per contact and each ROM's there, for the energy errors
-    let mut energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
-    let mut frf_series: Vec<(f64, Vec<Series>)> = Vec::new();
-    let mut err_points: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    let mut energy_series: Vec<(f64, Vec<Series>)> = Vec::new();
-    // per level: e*_1 along each ROM's final sweep
-    let mut e_star_series: Vec<(f64, Vec<Series>)> = Vec::new();
+    let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
+    let run = Run { study, out_dir, progress, hopts, band, sopts, plan, popts };
+    let kinds: Vec<(&str, RomKind)> =
+        [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)].into_iter().filter(|k| k.2).map(|k| (k.0, k.1)).collect();
+
+    let mut c = Collected::default();
+    let (mut frf_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new());
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
     let mut basis_study_seconds = 0.0;
-
     for &level in &study.forcing.levels {
         model.excitation.dynamic_scale = limit.scale_at(level)?;
         let tag = format!("alpha_ST_x{level:e}");
         // the transformed forces carry the excitation level: rebuild them for this level
         let coords = ContactCoordinates::new(&model, h)?;
-        let mut series = Vec::new();
-        let mut energies = Vec::new();
-        let mut e_stars: Vec<Series> = Vec::new();
-        let condensed = CondensedSystem::new(&model, &hopts)?;
-        // full order
-        let mut fo_peak: Option<PointSolution> = None;
-        let mut fo_warning: Option<String> = None;
-        let mut fo_edge: Option<String> = None;
-        if study.solvers.full_order {
-            let mut bar = progress.points(format!("FO sweep, alpha_ST x {level:e}"));
-            let t = Instant::now();
-            let res = sweep(&condensed, &sopts, &hopts, &mut |p| {
-                bar.point(p.omega / TWO_PI);
-                ControlFlow::Continue(())
-            });
-            bar.done(&res.as_ref().map(|r| format!(", {}", r.end.name())).unwrap_or_else(|_| ", failed".into()));
-            let res = match res {
-                Ok(r) => r,
-                Err(e) => {
-                    rows.push(failed_row(level, "FO (condensed)", condensed.layout().sizes.clone(), &e));
-                    fo_warning = Some("no full-order sweep to compare with".into());
-                    SweepResult::empty()
-                }
-            };
-            if res.points.is_empty() {
-                // the failure is in its row; the ROMs still run
-            } else {
-            let secs = t.elapsed().as_secs_f64();
-            write_csv(&out_dir.join(format!("{tag}_fo.csv")), &res, None, units(study))?;
-            let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
-            series.push(Series::solver("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-            energies.push(Series::solver("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
-            let warnings = sweep_warnings(&res, &p, band);
-            fo_edge = peak_on_edge(&res, &p, band).map(|edge| {
-                format!("the full-order peak is on {edge} ({:.3} Hz): the errors \"at resonance\" are taken there, not at a resonance", p.omega / TWO_PI)
-            });
-            if !res.reached_end() {
-                fo_warning = Some(format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
-            }
-            energies_at_peak.push((rows.len(), p.contact_cycles.iter().map(|c| c.dissipated_energy).collect(), Vec::new()));
-            rows.push(SolverRow {
-                level,
-                solver: "FO (condensed)".into(),
-                sizes: condensed.layout().sizes.clone(),
-                points: res.points.len(),
-                sweep_seconds: secs,
-                basis_seconds: 0.0,
-                corrections: 0,
-                peak_hz: p.omega / TWO_PI,
-                peak_x1: p.output_amplitude(1, 0),
-                peak_x0: p.output_coeff(0, 0),
-                error_x1: None,
-                error_x0: None,
-                predicted_e1: None,
-                actual_e1: None,
-                energy_error: None,
-                end: res.end.name().into(),
-                end_reason: end_reason(&res),
-                complete: res.reached_end(),
-                warnings,
-                worst_error: None,
-            });
-            fo_peak = Some(p);
-            }
+        let condensed = CondensedSystem::new(&model, &run.hopts)?;
+        let mut series = LevelSeries::default();
+        let fo_peak = if study.solvers.full_order { full_order_level(&run, level, &tag, &condensed, &mut c, &mut series)? } else { None };
+        for &kind in &kinds {
+            reduced_level(&run, level, &tag, kind, &model, &coords, &condensed, fo_peak.as_ref(), &mut c, &mut series)?;
         }
-        if !(study.solvers.fr || study.solvers.nlr) {
-            frf_series.push((level, series));
-            energy_series.push((level, energies));
-            continue;
-        }
-        let kinds: Vec<(&str, RomKind)> = [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)]
-            .into_iter()
-            .filter(|k| k.2)
-            .map(|k| (k.0, k.1))
-            .collect();
-        for &(name, kind) in &kinds {
-            // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
-            // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
-            let aopts = AdaptiveOptions { kind, threshold: study.basis.error_threshold, max_corrections: study.basis.max_corrections, ..AdaptiveOptions::default() };
-            let t = Instant::now();
-            // the basis time: from the start to the first reduced point (prediction, the ROM's
-            // construction and its first solve), and between the last point of a pass and the
-            // first of the next (the error checks that judged the pass, the correction's
-            // prediction, the new ROM); the reduced continuation steps are the rest
-            let mut basis_step = Some(progress.step(format!("{name} basis prediction, alpha_ST x {level:e}")));
-            let mut points: Option<jprom_progress::Points> = None;
-            let mut pass_now = usize::MAX;
-            let mut since = Instant::now();
-            let mut basis_seconds = 0.0;
-            let adaptive = adaptive_sweep_with_progress(&model, &popts, &sopts, &hopts, &aopts, &mut |pass, p| {
-                if pass != pass_now {
-                    let gap = since.elapsed().as_secs_f64();
-                    basis_seconds += gap;
-                    if let Some(step) = basis_step.take() {
-                        step.done();
-                    }
-                    if let Some(prev) = points.take() {
-                        prev.done(&format!(", then error checks and basis correction {pass} in {gap:.1} s"));
-                    }
-                    points = Some(progress.points(format!("{name} sweep, alpha_ST x {level:e}, basis {pass}")));
-                    pass_now = pass;
-                }
-                if let Some(pts) = points.as_mut() {
-                    pts.point(p.omega / TWO_PI);
-                }
-                since = Instant::now();
-                ControlFlow::Continue(())
-            });
-            drop(basis_step);
-            if let Some(pts) = points.take() {
-                pts.done(&adaptive.as_ref().map(|a| format!(", {}, worst e*_1 {:.2e}", a.sweep.end.name(), a.worst_error)).unwrap_or_else(|e| format!(", failed: {e}")));
-            }
-            let adaptive = match adaptive {
-                Ok(a) => a,
-                Err(e) => {
-                    rows.push(failed_row(level, name, Vec::new(), &e));
-                    continue;
-                }
-            };
-            let secs = t.elapsed().as_secs_f64();
-            let basis = &adaptive.basis;
-            let rom = reduced_model(kind, &coords, Some(&condensed), basis)?;
-            let res = &adaptive.sweep;
-            let errors = &adaptive.predicted_errors;
-            write_csv(&out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors), units(study))?;
-            let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
-            series.push(Series::solver(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-            e_stars.push(Series::solver(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
-            let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
-            let mut warnings = sweep_warnings(res, p, band);
-            if adaptive.worst_error > aopts.threshold {
-                warnings.push(format!(
-                    "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({:?})",
-                    adaptive.worst_error,
-                    aopts.threshold,
-                    adaptive.corrections.len(),
-                    adaptive.end
-                ));
-            }
-            let mut row = SolverRow {
-                level,
-                solver: name.to_string(),
-                sizes: rom.layout().sizes.clone(),
-                points: res.points.len(),
-                sweep_seconds: secs,
-                basis_seconds,
-                corrections: adaptive.corrections.len(),
-                peak_hz: p.omega / TWO_PI,
-                peak_x1: p.output_amplitude(1, 0),
-                peak_x0: p.output_coeff(0, 0),
-                error_x1: None,
-                error_x0: None,
-                predicted_e1: None,
-                actual_e1: None,
-                energy_error: None,
-                end: res.end.name().into(),
-                end_reason: end_reason(res),
-                complete: res.reached_end(),
-                warnings,
-                worst_error: Some(adaptive.worst_error),
-            };
-            if let Some(fo) = &fo_peak {
-                // the ROM at the full-order resonance frequency, from its nearest sweep point
-                let guess = res.points.iter().min_by(|a, b| (a.omega - fo.omega).abs().total_cmp(&(b.omega - fo.omega).abs())).map(|q| q.z.clone());
-                let r = match solve_point(rom.as_ref(), fo.omega, guess.as_deref(), &hopts) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        row.warnings.push(format!("no errors: the reduced model did not converge at the full-order peak ({e})"));
-                        rows.push(row);
-                        continue;
-                    }
-                };
-                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
-                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
-                let e_star = predicted_error(rom.as_ref(), &plan, r.omega, &r.z)?;
-                let e = actual_error(rom.as_ref(), &plan, r.omega, &r.z, fo)?;
-                row.predicted_e1 = e_star.get(1).copied();
-                row.actual_e1 = e.get(1).copied();
-                let cycles = reduced_contact_cycles(rom.as_ref(), &plan, r.omega, &r.z)?;
-                let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
-                energies_at_peak.push((rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
-                row.warnings.extend(fo_warning.iter().chain(&fo_edge).cloned());
-                energies.push(Series::solver(rom_label.clone(), cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
-                if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
-                    let label = name.to_string();
-                    match err_points.iter_mut().find(|(l, _)| *l == label) {
-                        Some((_, v)) => v.push((a, ps)),
-                        None => err_points.push((label, vec![(a, ps)])),
-                    }
-                }
-            }
-            rows.push(row);
-        }
-        if let (Some(fo), false) = (&fo_peak, study.basis.gamma_study.is_empty()) {
+        if let (Some(fo), false, false) = (&fo_peak, kinds.is_empty(), study.basis.gamma_study.is_empty()) {
             let bar = progress.step(format!("gamma study, level {level:e}"));
             let t = Instant::now();
-            basis_study.extend(gamma_study(study, &coords, &condensed, &popts, &hopts, &plan, fo, level, &kinds)?);
+            basis_study.extend(gamma_study(study, &coords, &condensed, &run.popts, &run.hopts, &run.plan, &fo.point, level, &kinds)?);
             basis_study_seconds += t.elapsed().as_secs_f64();
             bar.done();
         }
-        frf_series.push((level, series));
-        energy_series.push((level, energies));
-        e_star_series.push((level, e_stars));
+        frf_series.push((level, series.frf));
+        energy_series.push((level, series.energies));
+        if !kinds.is_empty() {
+            e_star_series.push((level, series.e_stars));
+        }
     }
 
+    let Collected { mut rows, energies_at_peak, err_points } = c;
     energy_errors(&mut rows, &energies_at_peak);
     let incomplete = rows
         .iter()
