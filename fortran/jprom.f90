@@ -37,7 +37,8 @@ module jprom_c
   !> Status codes (jprom_status): fixed values.
   integer(c_int), parameter :: JPROM_OK = 0, JPROM_NULL_ARGUMENT = 1, JPROM_BAD_SIZE = 2, JPROM_INVALID_VALUE = 3, &
                                JPROM_SINGULAR_MATRIX = 4, JPROM_NO_CONVERGENCE = 5, JPROM_IO = 6, JPROM_PANIC = 7, &
-                               JPROM_CANCELLED = 8, JPROM_INVALID_HANDLE = 9, JPROM_EIGEN = 10, JPROM_PARSE = 11
+                               JPROM_CANCELLED = 8, JPROM_INVALID_HANDLE = 9, JPROM_EIGEN = 10, JPROM_PARSE = 11, &
+                               JPROM_CALLBACK_ERROR = 12
   !> Reduced-model kinds (jprom_rom_kind) and basis corrections (jprom_correction_kind).
   integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
   integer(c_int), parameter :: JPROM_CORRECTION_REGENERATED = 0, JPROM_CORRECTION_GAMMA_INCREASED = 1
@@ -242,6 +243,23 @@ module jprom_c
       type(c_ptr), value :: dofs_b
       real(c_double), dimension(*), intent(in) :: frame
       real(c_double), value :: kt, kn, mu, n0
+    end function
+    !> User-defined memoryless element: callback = c_funloc of a bind(C) function
+    !>   integer(c_int32_t) function f(user_data, dim, w, force, jacobian) bind(C)
+    !>     type(c_ptr), value :: user_data; integer(c_size_t), value :: dim
+    !>     real(c_double), intent(in) :: w(dim); real(c_double) :: force(dim), jacobian(dim, dim)
+    !> returning 0 on success (thread-safe; see include/jprom.h). dofs_b, frame: c_null_ptr for
+    !> ground / the identity (frame: dim x dim row-major).
+    integer(c_int) function jprom_model_add_element_callback(model, dim, dofs_a, dofs_b, frame, callback, user_data) &
+        bind(C, name="jprom_model_add_element_callback")
+      import :: c_int, c_size_t, c_ptr, c_funptr
+      type(c_ptr), value :: model
+      integer(c_size_t), value :: dim
+      integer(c_size_t), dimension(*), intent(in) :: dofs_a
+      type(c_ptr), value :: dofs_b
+      type(c_ptr), value :: frame
+      type(c_funptr), value :: callback
+      type(c_ptr), value :: user_data
     end function
     integer(c_int) function jprom_model_set_output_dofs(model, dofs, n) bind(C, name="jprom_model_set_output_dofs")
       import :: c_int, c_size_t, c_ptr
@@ -764,7 +782,7 @@ module jprom
   use jprom_c, only: jprom_hbm_options, jprom_sweep_options, jprom_jp_options, &
                      JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
                      JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, &
-                     JPROM_PARSE, JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, &
+                     JPROM_PARSE, JPROM_CALLBACK_ERROR, JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, &
                      JPROM_CORRECTION_GAMMA_INCREASED, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
                      JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_MAX_HARMONICS, &
                      JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
@@ -772,7 +790,8 @@ module jprom
   private
   public :: jprom_hbm_options, jprom_sweep_options, jprom_jp_options
   public :: JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
-            JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, JPROM_PARSE
+            JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, JPROM_PARSE, &
+            JPROM_CALLBACK_ERROR
   public :: JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED
   public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
             JPROM_SWEEP_CANCELLED
@@ -782,6 +801,7 @@ module jprom
   ! models
   public :: jp_model_new, jp_model_new_csc, jp_model_clone, jp_model_free, jp_model_sizes, jp_add_ground_contact, &
             jp_add_contact, jp_add_jenkins, jp_add_polynomial_spring, jp_add_unilateral_spring, jp_add_friction_2d, &
+            jp_add_element_callback, &
             jp_set_damping, jp_set_modal_damping, jp_set_static_force, &
             jp_set_first_harmonic_force, jp_set_harmonic_force, jp_set_dynamic_scale, jp_set_excitation_level, &
             jp_excitation_level, jp_set_outputs, jp_model_validate, jp_model_save, jp_model_load
@@ -1116,6 +1136,48 @@ contains
     end if
     rows = reshape(transpose(frame), [4])
     jp_add_friction_2d = finish(jprom_model_add_friction_2d(model, a, pb, rows, kt, kn, mu, n0), message)
+  end function
+
+  !> User-defined memoryless element on dim = 1..3 local coordinates: dofs_a(dim) (1-based),
+  !> against ground, or relative to dofs_b(dim) when present, in frame(dim, dim) (rows: local
+  !> axes; identity when absent). callback = c_funloc of a bind(C) function (see the raw
+  !> interface jprom_model_add_element_callback) called per AFT time sample with user_data;
+  !> it must be thread-safe, and user_data must stay valid while the model lives. A nonzero
+  !> return ends a solve with JPROM_CALLBACK_ERROR.
+  integer function jp_add_element_callback(model, dim, dofs_a, callback, user_data, frame, dofs_b, message)
+    use jprom_c, only: jprom_model_add_element_callback
+    type(c_ptr), intent(in) :: model
+    integer, intent(in) :: dim
+    integer, intent(in) :: dofs_a(dim)
+    type(c_funptr), intent(in) :: callback
+    type(c_ptr), intent(in) :: user_data
+    real(c_double), intent(in), optional :: frame(dim, dim)
+    integer, intent(in), optional :: dofs_b(dim)
+    character(len=*), intent(out), optional :: message
+    integer(c_size_t) :: a(3)
+    integer(c_size_t), target :: b(3)
+    real(c_double), target :: rows(9)
+    type(c_ptr) :: pb, pf
+    if (dim < 1 .or. dim > 3) then
+      ! let the library refuse it with its message
+      a = 0
+      jp_add_element_callback = finish(jprom_model_add_element_callback(model, int(max(dim, 0), c_size_t), a, &
+                                                                        c_null_ptr, c_null_ptr, callback, user_data), message)
+      return
+    end if
+    a(1:dim) = c_index(dofs_a)
+    pb = c_null_ptr
+    if (present(dofs_b)) then
+      b(1:dim) = c_index(dofs_b)
+      pb = c_loc(b)
+    end if
+    pf = c_null_ptr
+    if (present(frame)) then
+      rows(1:dim * dim) = reshape(transpose(frame), [dim * dim])
+      pf = c_loc(rows)
+    end if
+    jp_add_element_callback = finish(jprom_model_add_element_callback(model, int(dim, c_size_t), a, pb, pf, callback, &
+                                                                      user_data), message)
   end function
 
   !> Rayleigh damping C = alpha M + beta K.

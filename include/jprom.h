@@ -124,6 +124,10 @@ typedef enum {
   JPROM_EIGEN = 10,
   // A file is malformed (the message gives the line).
   JPROM_PARSE = 11,
+  // A user callback element (`jprom_model_add_element_callback`) returned nonzero or gave
+  // a non-finite force or Jacobian; the message names the element and the time sample
+  // ("element 2: callback returned 3 at sample 17").
+  JPROM_CALLBACK_ERROR = 12,
 } jprom_status;
 
 // Why a sweep ended (`jprom_sweep_end_reason`). The values never change.
@@ -257,6 +261,19 @@ typedef struct {
   double gamma_growth;
   double max_gamma;
 } jprom_jp_options;
+
+// A user-defined element law (`jprom_model_add_element_callback`): at one time sample, from
+// the local relative displacement `w[dim]`, write the force `force[dim]` (what the element
+// pushes back with, positive when it resists `w`) and the Jacobian `jacobian[dim * dim]`,
+// column-major (`jacobian[r + c * dim] = dF_r / dw_c`); both arrive zeroed. Return 0 on
+// success, nonzero to report an error (the solve then ends with `JPROM_CALLBACK_ERROR`). The
+// pointers are valid during the call only. Must be thread-safe and must not unwind (no C++
+// exception, no longjmp) out of the call.
+typedef int32_t (*jprom_element_fn)(void *user_data,
+                                    size_t dim,
+                                    const double *w,
+                                    double *force,
+                                    double *jacobian);
 
 #ifdef __cplusplus
 extern "C" {
@@ -760,6 +777,43 @@ jprom_status jprom_model_add_friction_2d(jprom_model *model,
                                          double kn,
                                          double mu,
                                          double n0);
+
+// Adds a user-defined memoryless element (docs/formulation.md §4.6) on `dim` = 1, 2 or 3
+// local coordinates: `dofs_a[dim]` the global DoFs of node `a`, `dofs_b[dim]` those of node
+// `b` or NULL for ground, `frame[dim * dim]` the row-major rotation (rows: local axes; NULL =
+// identity), so `w = R (x_a - x_b)`; the force on the structure is `-R^T F` at `a` (and
+// `+R^T F` at `b`). At every AFT time sample jprom calls `callback(user_data, dim, w, force,
+// jacobian)` (see `jprom_element_fn`) and builds the harmonic force and its exact Jacobian
+// from those values.
+//
+// * **Memoryless**: `F(t)` may depend on `w(t)` only. A law with memory (hysteresis,
+//   friction) needs `dF(t_j)/dw(t_k)` for earlier samples `k < j`: use the built-in friction
+//   elements for those.
+// * **Errors**: a nonzero return, or a non-finite force or Jacobian entry, ends
+//   `jprom_solve_point` (and a JP prediction) with `JPROM_CALLBACK_ERROR` and the message
+//   "element k: callback returned <code> at sample j", `k` the element's index (the previous
+//   contact count); no NaN reaches a solution. A sweep takes it as a failed continuation step:
+//   it keeps its points up to there and ends stalled, its failure text naming the element.
+// * **Stuck stiffness**: the callback is called once here at `w = 0`; its Jacobian there is
+//   the element's linearisation for the stuck limit and the JP modes (a failure here is
+//   `JPROM_CALLBACK_ERROR` and the model is unchanged).
+// * **Threads**: the callback may be called from several threads at once (the JP prediction
+//   runs frequencies in parallel, the AFT runs many contacts in parallel): it must be
+//   thread-safe. `user_data` is stored as given; the caller keeps what it points to alive
+//   while the model and every solution, sweep or ROM made from it live.
+// * A model holding a callback element cannot be saved: `jprom_model_save_json` returns
+//   `JPROM_INVALID_VALUE` naming the element and writes no file.
+//
+// `JPROM_NULL_ARGUMENT` for a NULL `callback`, `dofs_a` or model; `JPROM_INVALID_VALUE` for
+// `dim` not 1..3 or the checks of `jprom_model_add_friction_2d` (DoFs, orthonormal frame).
+// DoF sharing as for `jprom_model_add_polynomial_spring`.
+jprom_status jprom_model_add_element_callback(jprom_model *model,
+                                              size_t dim,
+                                              const size_t *dofs_a,
+                                              const size_t *dofs_b,
+                                              const double *frame,
+                                              jprom_element_fn callback,
+                                              void *user_data);
 
 // DoFs whose response is reported by solutions and sweeps (0-based, `n_outputs` entries;
 // NULL allowed when `n_outputs == 0`). Replaces any previous list.

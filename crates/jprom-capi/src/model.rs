@@ -7,11 +7,12 @@ use super::guard::{csc_entries, ffi_guard, finite_arg, mul_size, out_arg, path_a
 use super::handle::{self, Handle};
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
-use jprom::contact::{Contact, ContactLaw};
+use jprom::contact::{Contact, ContactLaw, ExternalFn, ExternalLaw, IDENTITY_FRAME};
 use jprom::error::Result;
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use faer::Mat;
-use std::ffi::c_char;
+use std::ffi::{c_char, c_void};
+use std::sync::Arc;
 
 /// Opaque structural model: `M`, `K`, damping, excitation, contacts, output DoFs.
 /// Created by `jprom_model_new`, `jprom_model_new_csc`, `jprom_model_load_json` or
@@ -535,6 +536,109 @@ pub unsafe extern "C" fn jprom_model_add_friction_2d(
             ContactLaw::Friction2D { kt, kn, mu, n0 },
         );
         push_contact(&mut m.model, c)?;
+        Ok(())
+    })
+}
+
+/// A user-defined element law (`jprom_model_add_element_callback`): at one time sample, from
+/// the local relative displacement `w[dim]`, write the force `force[dim]` (what the element
+/// pushes back with, positive when it resists `w`) and the Jacobian `jacobian[dim * dim]`,
+/// column-major (`jacobian[r + c * dim] = dF_r / dw_c`); both arrive zeroed. Return 0 on
+/// success, nonzero to report an error (the solve then ends with `JPROM_CALLBACK_ERROR`). The
+/// pointers are valid during the call only. Must be thread-safe and must not unwind (no C++
+/// exception, no longjmp) out of the call.
+#[allow(non_camel_case_types)]
+pub type jprom_element_fn =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, dim: usize, w: *const f64, force: *mut f64, jacobian: *mut f64) -> i32>;
+
+/// The caller's `user_data`, carried into the element law's closure.
+#[derive(Clone, Copy)]
+struct UserData(*mut c_void);
+
+impl UserData {
+    fn ptr(self) -> *mut c_void {
+        self.0
+    }
+}
+
+// SAFETY: jprom never dereferences the pointer; it only hands it back to the caller's
+// callback. `jprom_model_add_element_callback` documents that the caller keeps it valid while
+// the model (and every model, solution or ROM made from it) lives, and that the callback is
+// safe to call from several threads at once with it.
+unsafe impl Send for UserData {}
+unsafe impl Sync for UserData {}
+
+/// Adds a user-defined memoryless element (docs/formulation.md §4.6) on `dim` = 1, 2 or 3
+/// local coordinates: `dofs_a[dim]` the global DoFs of node `a`, `dofs_b[dim]` those of node
+/// `b` or NULL for ground, `frame[dim * dim]` the row-major rotation (rows: local axes; NULL =
+/// identity), so `w = R (x_a - x_b)`; the force on the structure is `-R^T F` at `a` (and
+/// `+R^T F` at `b`). At every AFT time sample jprom calls `callback(user_data, dim, w, force,
+/// jacobian)` (see `jprom_element_fn`) and builds the harmonic force and its exact Jacobian
+/// from those values.
+///
+/// * **Memoryless**: `F(t)` may depend on `w(t)` only. A law with memory (hysteresis,
+///   friction) needs `dF(t_j)/dw(t_k)` for earlier samples `k < j`: use the built-in friction
+///   elements for those.
+/// * **Errors**: a nonzero return, or a non-finite force or Jacobian entry, ends
+///   `jprom_solve_point` (and a JP prediction) with `JPROM_CALLBACK_ERROR` and the message
+///   "element k: callback returned <code> at sample j", `k` the element's index (the previous
+///   contact count); no NaN reaches a solution. A sweep takes it as a failed continuation step:
+///   it keeps its points up to there and ends stalled, its failure text naming the element.
+/// * **Stuck stiffness**: the callback is called once here at `w = 0`; its Jacobian there is
+///   the element's linearisation for the stuck limit and the JP modes (a failure here is
+///   `JPROM_CALLBACK_ERROR` and the model is unchanged).
+/// * **Threads**: the callback may be called from several threads at once (the JP prediction
+///   runs frequencies in parallel, the AFT runs many contacts in parallel): it must be
+///   thread-safe. `user_data` is stored as given; the caller keeps what it points to alive
+///   while the model and every solution, sweep or ROM made from it live.
+/// * A model holding a callback element cannot be saved: `jprom_model_save_json` returns
+///   `JPROM_INVALID_VALUE` naming the element and writes no file.
+///
+/// `JPROM_NULL_ARGUMENT` for a NULL `callback`, `dofs_a` or model; `JPROM_INVALID_VALUE` for
+/// `dim` not 1..3 or the checks of `jprom_model_add_friction_2d` (DoFs, orthonormal frame).
+/// DoF sharing as for `jprom_model_add_polynomial_spring`.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_model_add_element_callback(
+    model: *mut jprom_model,
+    dim: usize,
+    dofs_a: *const usize,
+    dofs_b: *const usize,
+    frame: *const f64,
+    callback: jprom_element_fn,
+    user_data: *mut c_void,
+) -> jprom_status {
+    ffi_guard!({
+        let m = handle::get_mut(model, "model")?;
+        let cb = callback.ok_or_else(|| FfiError::null("callback"))?;
+        if !(1..=3).contains(&dim) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("dim must be 1, 2 or 3, got {dim}")));
+        }
+        let a = slice_arg(dofs_a, dim, "dofs_a")?.to_vec();
+        let b = if dofs_b.is_null() { None } else { Some(slice_arg(dofs_b, dim, "dofs_b")?.to_vec()) };
+        let mut full = IDENTITY_FRAME;
+        if !frame.is_null() {
+            let f = slice_arg(frame, dim * dim, "frame")?;
+            full = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    full[i][j] = if i < dim && j < dim { f[i * dim + j] } else if i == j { 1.0 } else { 0.0 };
+                }
+            }
+        }
+        let ud = UserData(user_data);
+        let f: Arc<ExternalFn> = Arc::new(move |w: &[f64], force: &mut [f64], jac: &mut [f64]| {
+            // SAFETY: the slices hold dim, dim and dim * dim values; the callback's contract
+            // (jprom_element_fn) is the caller's.
+            let code = unsafe { cb(ud.ptr(), w.len(), w.as_ptr(), force.as_mut_ptr(), jac.as_mut_ptr()) };
+            if code == 0 {
+                Ok(())
+            } else {
+                Err(format!("callback returned {code}"))
+            }
+        });
+        let index = m.model.contacts.len();
+        let law = ExternalLaw::labelled(dim, format!("element {index}"), f)?;
+        push_contact(&mut m.model, Contact { dofs_a: a, dofs_b: b, frame: full, law: ContactLaw::External(law) })?;
         Ok(())
     })
 }

@@ -38,6 +38,10 @@ pub enum jprom_status {
     JPROM_EIGEN = 10,
     /// A file is malformed (the message gives the line).
     JPROM_PARSE = 11,
+    /// A user callback element (`jprom_model_add_element_callback`) returned nonzero or gave
+    /// a non-finite force or Jacobian; the message names the element and the time sample
+    /// ("element 2: callback returned 3 at sample 17").
+    JPROM_CALLBACK_ERROR = 12,
 }
 
 /// An error at the C boundary: a status and its message.
@@ -69,6 +73,7 @@ pub(crate) fn status_of(e: &JpError) -> jprom_status {
         JpError::Cancelled => JPROM_CANCELLED,
         JpError::Eigen { .. } => JPROM_EIGEN,
         JpError::TooLarge { .. } | JpError::OverLimit { .. } => JPROM_BAD_SIZE,
+        JpError::Callback { .. } => JPROM_CALLBACK_ERROR,
     }
 }
 
@@ -189,6 +194,7 @@ pub extern "C" fn jprom_status_name(status: c_int) -> *const c_char {
         9 => b"JPROM_INVALID_HANDLE\0",
         10 => b"JPROM_EIGEN\0",
         11 => b"JPROM_PARSE\0",
+        12 => b"JPROM_CALLBACK_ERROR\0",
         _ => b"JPROM_UNKNOWN_STATUS\0",
     };
     s.as_ptr() as *const c_char

@@ -47,6 +47,12 @@ pub enum JpError {
     /// A size from outside exceeds one of jprom's documented caps ([`crate::limits`]).
     #[error("{what} = {value} is above jprom's limit of {limit}")]
     OverLimit { what: String, value: u128, limit: u128 },
+
+    /// A user-defined law ([`crate::contact::ExternalLaw`], a C callback) failed: it returned
+    /// an error, panicked, or gave a non-finite force or Jacobian at time sample `sample` of
+    /// the AFT. `element` names it ("element 3").
+    #[error("{element}: {reason} at sample {sample}")]
+    Callback { element: String, sample: usize, reason: String },
 }
 
 fn at_line(line: usize) -> String {

@@ -4,6 +4,7 @@
 // the deprecated functions are tested as well: they stay in the ABI
 #![allow(deprecated)]
 
+mod ffi_callback;
 mod ffi_damping;
 mod ffi_elements;
 mod ffi_fe;

@@ -22,7 +22,7 @@ pub use fourier::{AftBackend, TABLES_MAX_H};
 use crate::contact::elastic::{Friction2D, Polynomial, Unilateral};
 use crate::contact::jenkins::Jenkins;
 use crate::contact::law::Friction3D;
-use crate::contact::{ContactLaw, ContactState, SampleLaw};
+use crate::contact::{ContactLaw, ContactState, ExternalLaw, SampleLaw};
 use crate::error::{JpError, Result};
 use fourier::Fourier;
 use rustfft::num_complex::Complex;
@@ -84,6 +84,20 @@ pub struct AftWorkspace {
     member_force: Vec<f64>,
     member_jac: Vec<f64>,
     member_cycle: ContactCycle,
+    /// Force samples `d Nt` and Jacobian samples `d^2 Nt` of an [`ContactLaw::External`] law
+    /// (sized on first use, then reused).
+    ext_force: Vec<f64>,
+    ext_jac: Vec<f64>,
+    /// The first failure of an [`ContactLaw::External`] law since it was last taken.
+    error: Option<JpError>,
+}
+
+impl AftWorkspace {
+    /// The first failure of an [`ContactLaw::External`] law recorded by
+    /// [`AftPlan::contact`] since the last call, if any (and forgets it).
+    pub fn take_error(&mut self) -> Option<JpError> {
+        self.error.take()
+    }
 }
 
 impl AftPlan {
@@ -150,6 +164,9 @@ impl AftPlan {
             member_force: Vec::new(),
             member_jac: Vec::new(),
             member_cycle: ContactCycle::default(),
+            ext_force: Vec::new(),
+            ext_jac: Vec::new(),
+            error: None,
         }
     }
 
@@ -161,6 +178,12 @@ impl AftPlan {
     /// repeats ([`PERIODIC_TOLERANCE`], at most [`MAX_PASSES`] passes); forces, states and
     /// derivatives come from the last pass, whose start-state derivative is carried through
     /// the earlier passes, so `jac` is the exact derivative of the returned force.
+    ///
+    /// An [`ContactLaw::External`] law (docs/formulation.md §4.6) takes the memoryless path
+    /// instead: `F_h = DFT f(w(t_j))`, `jac = DFT diag(dF/dw(t_j)) IDFT`, states `Stick` and no
+    /// dissipated energy. If its callable fails, `force`, `jac` and the cycle's energy are NaN
+    /// and the error is kept in `ws` ([`AftWorkspace::take_error`]; the first one is kept);
+    /// [`AftPlan::try_contact`] returns it instead.
     ///
     /// # Panics
     /// If `w` or `force` are not of length `n = dim (2H + 1)`, `jac` not of length `n^2`,
@@ -203,6 +226,123 @@ impl AftPlan {
                 self.contact_law(&p, w, force, jac, cycle, ws)
             }
             ContactLaw::Parallel(laws) => self.contact_parallel(laws, w, force, jac, cycle, ws),
+            ContactLaw::External(law) => self.contact_external(law, w, force, jac, cycle, ws),
+        }
+    }
+
+    /// [`AftPlan::contact`], with the failure of an [`ContactLaw::External`] law as an error.
+    ///
+    /// # Errors
+    /// [`JpError::Callback`] naming the law, the time sample and the reason.
+    ///
+    /// # Panics
+    /// As [`AftPlan::contact`].
+    pub fn try_contact(
+        &self,
+        law: &ContactLaw,
+        w: &[f64],
+        force: &mut [f64],
+        jac: Option<&mut [f64]>,
+        cycle: Option<&mut ContactCycle>,
+        ws: &mut AftWorkspace,
+    ) -> Result<()> {
+        ws.error = None;
+        self.contact(law, w, force, jac, cycle, ws);
+        ws.error.take().map_or(Ok(()), Err)
+    }
+
+    /// The memoryless path of an [`ContactLaw::External`] law: no chain through the samples,
+    /// `dF(t_j)/dw_h = dF/dw(t_j) b_h(t_j)`, so each entry `(r, s)` of the per-sample Jacobian
+    /// contributes the `nc x nc` block `DFT (dF_r/dw_s(t_j) b_k(t_j))` (one transform per pair
+    /// of columns `k`).
+    fn contact_external(
+        &self,
+        law: &ExternalLaw,
+        w: &[f64],
+        force: &mut [f64],
+        jac: Option<&mut [f64]>,
+        cycle: Option<&mut ContactCycle>,
+        ws: &mut AftWorkspace,
+    ) {
+        let f = &self.fourier;
+        let (nt, nc) = (self.nt, f.nc);
+        let d = law.dim();
+        let n = d * nc;
+        let AftWorkspace { x, tangential, buf, scratch, ext_force, ext_jac, error, .. } = ws;
+        ext_force.resize(3 * nt, 0.0);
+        ext_jac.resize(9 * nt, 0.0);
+        let mut i = 0;
+        while i < d {
+            let (a, rest) = x[i * nt..].split_at_mut(nt);
+            if i + 1 < d {
+                f.synthesize(w, d, i, a, Some((i + 1, &mut rest[..nt])), buf, scratch);
+            } else {
+                f.synthesize(w, d, i, a, None, buf, scratch);
+            }
+            i += 2;
+        }
+        let (mut wj, mut fj, mut jj) = ([0.0; 3], [0.0; 3], [0.0; 9]);
+        for j in 0..nt {
+            for i in 0..d {
+                wj[i] = x[i * nt + j];
+            }
+            if let Err(reason) = law.eval(&wj[..d], &mut fj[..d], &mut jj[..d * d]) {
+                if error.is_none() {
+                    *error = Some(JpError::Callback { element: law.name_or_default(), sample: j, reason });
+                }
+                force.fill(f64::NAN);
+                if let Some(jac) = jac {
+                    jac.fill(f64::NAN);
+                }
+                if let Some(cy) = cycle {
+                    cy.states.clear();
+                    cy.states.resize(nt, ContactState::Stick);
+                    cy.dissipated_energy = f64::NAN;
+                }
+                return;
+            }
+            for i in 0..d {
+                ext_force[i * nt + j] = fj[i];
+            }
+            for e in 0..d * d {
+                ext_jac[e * nt + j] = jj[e];
+            }
+        }
+        for i in 0..d {
+            f.analyze(&ext_force[i * nt..(i + 1) * nt], None, force, i, i, d, buf, scratch);
+        }
+        if let Some(cy) = cycle {
+            cy.states.clear();
+            cy.states.resize(nt, ContactState::Stick);
+            cy.dissipated_energy = 0.0;
+        }
+        let Some(jac) = jac else { return };
+        jac.fill(0.0);
+        let basis = &f.basis;
+        let (ya, yb) = tangential.split_at_mut(nt);
+        for s in 0..d {
+            for r in 0..d {
+                let g = &ext_jac[(r + s * d) * nt..(r + s * d + 1) * nt];
+                if g.iter().all(|&v| v == 0.0) {
+                    continue;
+                }
+                let mut k = 0;
+                while k < nc {
+                    let k2 = k + 1;
+                    for j in 0..nt {
+                        ya[j] = g[j] * basis[j * nc + k];
+                    }
+                    if k2 < nc {
+                        for j in 0..nt {
+                            yb[j] = g[j] * basis[j * nc + k2];
+                        }
+                        f.analyze(ya, Some(&yb[..nt]), jac, r + (k * d + s) * n, r + (k2 * d + s) * n, d, buf, scratch);
+                    } else {
+                        f.analyze(ya, None, jac, r + (k * d + s) * n, r + (k * d + s) * n, d, buf, scratch);
+                    }
+                    k += 2;
+                }
+            }
         }
     }
 
@@ -547,6 +687,24 @@ pub struct ContactForces {
     local_force: Vec<f64>,
     /// One workspace per parallel chunk, kept across calls.
     workspaces: Vec<AftWorkspace>,
+    /// The first failure of an [`ContactLaw::External`] law in the last evaluation.
+    error: Option<JpError>,
+}
+
+impl ContactForces {
+    /// The failure of an [`ContactLaw::External`] law in the last [`evaluate_contacts`] (its
+    /// outputs are then NaN), if any, and forgets it.
+    pub fn take_error(&mut self) -> Option<JpError> {
+        self.error.take()
+    }
+
+    /// `Err` with the failure of the last [`evaluate_contacts`], if any.
+    ///
+    /// # Errors
+    /// [`JpError::Callback`] naming the element, the time sample and the reason.
+    pub fn check(&mut self) -> Result<()> {
+        self.take_error().map_or(Ok(()), Err)
+    }
 }
 
 /// Whether [`evaluate_contacts_with`] may run in parallel.
@@ -565,7 +723,9 @@ pub const PARALLEL_MIN_CONTACTS: usize = 32;
 
 /// Evaluates every contact (in parallel over contacts) for the harmonic-major contact
 /// displacement `w_all` (length `(2H + 1) n_w`); `offsets[c]` is contact `c`'s first
-/// coordinate in `w`. Fills `out` (resized as needed, reused across calls).
+/// coordinate in `w`. Fills `out` (resized as needed, reused across calls). If an
+/// [`ContactLaw::External`] law fails, its outputs are NaN and the error is kept in `out`:
+/// callers check [`ContactForces::check`] (or [`ContactForces::take_error`]).
 ///
 /// # Panics
 /// If `laws` and `offsets` differ in length, `w_all` is not of length `(2H + 1) n_w`, or a
@@ -643,7 +803,12 @@ pub fn evaluate_contacts_with(
         local_force: &mut out.local_force[..],
         cycles: if want_cycles { Some(&mut out.cycles[..]) } else { None },
     };
+    for ws in &mut out.workspaces {
+        ws.error = None;
+    }
     task.run(&mut out.workspaces[..leaves]);
+    // leaves hold contacts in order: the first error is the lowest-numbered failing contact's
+    out.error = out.workspaces.iter_mut().find_map(AftWorkspace::take_error);
     // Scatter the contact-major local forces to the harmonic-major layout.
     let mut pos = 0;
     for (law, &off) in laws.iter().zip(offsets) {

@@ -9,6 +9,9 @@
 pub mod law;
 pub mod jenkins;
 pub mod elastic;
+pub mod external;
+
+pub use external::{ExternalFn, ExternalLaw};
 
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
@@ -127,6 +130,10 @@ pub enum ContactLaw {
     /// builds it for elements with the same kinematics (same `dofs_a`, `dofs_b` and frame);
     /// members may not be `Parallel` themselves.
     Parallel(Vec<ContactLaw>),
+    /// User-defined memoryless law on `d = 1..=3` coordinates: a callable gives `F(w)` and
+    /// `dF/dw` per AFT time sample (docs/formulation.md §4.6, [`external`]). Not
+    /// serialisable; its stuck stiffness is its Jacobian at `w = 0`.
+    External(ExternalLaw),
 }
 
 impl ContactLaw {
@@ -137,11 +144,45 @@ impl ContactLaw {
             ContactLaw::Friction2D { .. } => 2,
             ContactLaw::Jenkins { .. } | ContactLaw::Polynomial { .. } | ContactLaw::Unilateral { .. } => 1,
             ContactLaw::Parallel(laws) => laws.first().map_or(1, ContactLaw::dim),
+            ContactLaw::External(law) => law.dim(),
+        }
+    }
+
+    /// Linear stiffness of the stuck, closed contact as a full `dim x dim` column-major block:
+    /// `diag(`[`ContactLaw::stuck_stiffness`]`)` for the built-in laws, the Jacobian at `w = 0`
+    /// (coupling included) for an [`ContactLaw::External`] law, summed over parallel laws.
+    pub fn stuck_stiffness_block(&self) -> Vec<f64> {
+        let d = self.dim();
+        let mut k = vec![0.0; d * d];
+        for law in self.members() {
+            if let ContactLaw::External(e) = law {
+                for (s, v) in k.iter_mut().zip(e.stuck_jacobian()) {
+                    *s += v;
+                }
+            } else {
+                for (i, v) in law.stuck_stiffness().into_iter().enumerate() {
+                    k[i + i * d] += v;
+                }
+            }
+        }
+        k
+    }
+
+    /// The law with every [`ContactLaw::External`] member that has no label named
+    /// `"element {index}"` (for error messages; [`crate::model::ContactCoordinates`] calls it
+    /// with the contact's index in the model).
+    pub fn labelled(self, index: usize) -> ContactLaw {
+        match self {
+            ContactLaw::External(e) if e.label().is_empty() => ContactLaw::External(e.with_label(format!("element {index}"))),
+            ContactLaw::Parallel(laws) => ContactLaw::Parallel(laws.into_iter().map(|l| l.labelled(index)).collect()),
+            law => law,
         }
     }
 
     /// Linear stiffness of the fully stuck, closed contact: `diag(kt1, kt2, kn)`, `kt`,
-    /// `(kt, kn)`, `kn`, the polynomial's `c_1`, or the sum over parallel laws.
+    /// `(kt, kn)`, `kn`, the polynomial's `c_1`, the diagonal of an external law's Jacobian at
+    /// `w = 0` (its full block, coupling included, is [`ContactLaw::stuck_stiffness_block`]),
+    /// or the sum over parallel laws.
     pub fn stuck_stiffness(&self) -> Vec<f64> {
         match self {
             ContactLaw::Friction3D { kt1, kt2, kn, .. } => vec![*kt1, *kt2, *kn],
@@ -157,6 +198,10 @@ impl ContactLaw {
                     }
                 }
                 k
+            }
+            ContactLaw::External(law) => {
+                let d = law.dim();
+                (0..d).map(|i| law.stuck_jacobian()[i + i * d]).collect()
             }
         }
     }
@@ -179,6 +224,7 @@ impl ContactLaw {
             ContactLaw::Polynomial { .. } => "Polynomial",
             ContactLaw::Unilateral { .. } => "Unilateral",
             ContactLaw::Parallel(_) => "Parallel",
+            ContactLaw::External(_) => "External",
         }
     }
 
@@ -256,6 +302,12 @@ impl ContactLaw {
                 check("kt", kt)?;
                 check("mu", mu)?;
                 check("normal_load", normal_load)
+            }
+            ContactLaw::External(law) => {
+                if !(1..=3).contains(&law.dim()) {
+                    return Err(JpError::invalid(format!("{what}.dim"), format!("must be 1, 2 or 3, got {}", law.dim())));
+                }
+                Ok(())
             }
         }
     }

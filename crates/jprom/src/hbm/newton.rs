@@ -149,6 +149,8 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
             Ok((rt, jt)) if norm2(&rt).is_finite() => Some((rt, jt.expect("jacobian requested"))),
             Ok(_) => None,
             Err(e) if !settings.trust_region => return Err(fail(iterations, rel, e)),
+            // a failed external law (C callback) is not a bad step: it ends the solve
+            Err(e @ JpError::Callback { .. }) => return Err(fail(iterations, rel, e)),
             Err(_) => None,
         };
         let rel_trial = trial.as_ref().map(|(rt, _)| norm2(rt)).unwrap_or(f64::INFINITY);

@@ -288,6 +288,8 @@ pub fn evaluate(
         false,
         &mut ws.forces,
     );
+    // a failed external law (C callback) ends the evaluation with its error, never NaN
+    ws.forces.check()?;
     ws.contact_force_norm = scatter_contact_force(system, &ws.forces.force, &mut r);
     if let Some(j) = jac.as_mut() {
         scatter_contact_jacobian(system, &ws.forces, j);
@@ -324,6 +326,7 @@ pub fn contact_cycles(
         true,
         &mut ws.forces,
     );
+    ws.forces.check()?;
     Ok(std::mem::take(&mut ws.forces.cycles))
 }
 

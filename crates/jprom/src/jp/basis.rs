@@ -134,6 +134,7 @@ impl JpBasis {
         let w = fo.contact_displacement(coords.n_w)?;
         let mut forces = ContactForces::default();
         evaluate_contacts(plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
+        forces.check()?;
         let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, hh, &forces, &w)?;
         Self::from_jacobian(coords, &k_hat, opts)
     }

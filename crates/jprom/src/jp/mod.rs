@@ -56,9 +56,11 @@ impl ContactJacobian {
         let nc = 2 * harmonics + 1;
         let mut k_hat = Mat::zeros(nc * n_w, nc * n_w);
         for (law, &off) in laws.iter().zip(offsets) {
-            for (i, k) in law.stuck_stiffness().into_iter().enumerate() {
+            // the full block: an external law's Jacobian at w = 0 may couple its coordinates
+            let d = law.dim();
+            for (idx, k) in law.stuck_stiffness_block().into_iter().enumerate() {
                 for c in 0..nc {
-                    k_hat[(c * n_w + off + i, c * n_w + off + i)] = k;
+                    k_hat[(c * n_w + off + idx % d, c * n_w + off + idx / d)] = k;
                 }
             }
         }

@@ -146,10 +146,12 @@ fn contact_w(nw: usize, harmonics: usize, q0: &[f64], c: &[f64], s: &[f64], p: f
     w
 }
 
-fn eval(coords: &ContactCoordinates, plan: &AftPlan, w: &[f64], jac: bool, cycles: bool) -> ContactForces {
+/// The contact forces at `w`; a failed external law (C callback) is its error.
+fn eval(coords: &ContactCoordinates, plan: &AftPlan, w: &[f64], jac: bool, cycles: bool) -> Result<ContactForces> {
     let mut out = ContactForces::default();
     evaluate_contacts(plan, &coords.laws, &coords.offsets, coords.n_w, w, jac, cycles, &mut out);
-    out
+    out.check()?;
+    Ok(out)
 }
 
 /// The nonlinear static solution under `f_E^0` with contacts (zero dynamic part): Newton on
@@ -166,17 +168,17 @@ pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Ve
     let x = lu_solve("K + stuck contact stiffness", &coords.stuck_stiffness(), &f0)?;
     let mut q: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
     let zeros = vec![0.0; nw];
-    let residual = |q: &[f64], jac: bool| -> (Vec<f64>, ContactForces) {
-        let forces = eval(coords, plan, &contact_w(nw, hh, q, &zeros, &zeros, 0.0), jac, false);
+    let residual = |q: &[f64], jac: bool| -> Result<(Vec<f64>, ContactForces)> {
+        let forces = eval(coords, plan, &contact_w(nw, hh, q, &zeros, &zeros, 0.0), jac, false)?;
         let mut r: Vec<f64> = (0..n)
             .map(|i| (0..n).map(|j| coords.stiffness[(i, j)] * q[j]).sum::<f64>() - coords.static_force[i])
             .collect();
         for i in 0..nw {
             r[i] += forces.force[i];
         }
-        (r, forces)
+        Ok((r, forces))
     };
-    let (mut r, mut forces) = residual(&q, true);
+    let (mut r, mut forces) = residual(&q, true)?;
     // Forces of the problem: the static load, and the contact forces at the start (a preload
     // acts without any static load; scaling by the load alone made a zero load unsolvable).
     let scale = norm2(&coords.static_force).max(norm2(&forces.force[..nw])).max(f64::MIN_POSITIVE);
@@ -197,7 +199,7 @@ pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Ve
         let mut t = 1.0;
         loop {
             let trial: Vec<f64> = (0..n).map(|i| q[i] - t * dx[(i, 0)]).collect();
-            let (rt, ft) = residual(&trial, true);
+            let (rt, ft) = residual(&trial, true)?;
             let rtn = norm2(&rt);
             if rtn < rn || t < 1e-6 {
                 q = trial;
@@ -289,15 +291,15 @@ pub fn predict_basis(coords: &ContactCoordinates, plan: &AftPlan, opts: &Predict
     let at = |p: f64, jac: bool| eval(coords, plan, &contact_w(nw, hh, &q0, &c, &s, p), jac, true);
 
     // p̂_min by bisection on "all stuck".
-    let p_min = if all_stuck(&at(p_max, false)) {
+    let p_min = if all_stuck(&at(p_max, false)?) {
         p_max
-    } else if !all_stuck(&at(0.0, false)) {
+    } else if !all_stuck(&at(0.0, false)?) {
         0.0
     } else {
         let (mut lo, mut hi) = (0.0, p_max);
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if all_stuck(&at(mid, false)) {
+            if all_stuck(&at(mid, false)?) {
                 lo = mid;
             } else {
                 hi = mid;
@@ -324,7 +326,7 @@ pub fn predict_basis(coords: &ContactCoordinates, plan: &AftPlan, opts: &Predict
     let mut seen = HashSet::new();
     let mut chosen: Vec<(f64, ContactForces)> = Vec::new();
     for &p in &samples {
-        let forces = at(p, true);
+        let forces = at(p, true)?;
         if seen.insert(pattern(&forces)) {
             chosen.push((p, forces));
         }

@@ -65,8 +65,10 @@ impl ContactCoordinates {
     pub fn stuck_stiffness(&self) -> Mat<f64> {
         let mut k = self.stiffness.clone();
         for (law, &off) in self.laws.iter().zip(&self.offsets) {
-            for (i, ks) in law.stuck_stiffness().into_iter().enumerate() {
-                k[(off + i, off + i)] += ks;
+            // the full block: an external law's Jacobian at w = 0 may couple its coordinates
+            let d = law.dim();
+            for (idx, ks) in law.stuck_stiffness_block().into_iter().enumerate() {
+                k[(off + idx % d, off + idx / d)] += ks;
             }
         }
         k
@@ -130,8 +132,10 @@ impl ContactCoordinates {
             .groups
             .iter()
             .map(|g| match g.as_slice() {
-                [one] => model.contacts[*one].law.clone(),
-                many => ContactLaw::Parallel(many.iter().flat_map(|&c| model.contacts[c].law.members().to_vec()).collect()),
+                [one] => model.contacts[*one].law.clone().labelled(*one),
+                many => ContactLaw::Parallel(
+                    many.iter().flat_map(|&c| model.contacts[c].law.members().iter().map(move |l| l.clone().labelled(c))).collect(),
+                ),
             })
             .collect();
         let nz = n; // T is square and invertible

@@ -327,7 +327,18 @@ impl Model {
     }
 
     /// Saves as JSON (serde; the format is versioned by [`crate::io::FORMAT_VERSION`]).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the contact if one has an external (callback) law,
+    /// before any file is created; [`JpError::Io`] if the file cannot be written.
     pub fn save_json(&self, path: &std::path::Path) -> Result<()> {
+        let external = |c: &crate::contact::Contact| c.law.members().iter().any(|l| matches!(l, crate::contact::ContactLaw::External(_)));
+        if let Some(k) = self.contacts.iter().position(external) {
+            return Err(JpError::invalid(
+                format!("model.contacts[{k}]"),
+                "an External (callback) contact law is a function and cannot be saved; save the model without it and add it again after loading",
+            ));
+        }
         crate::io::save_json("model", self, path)
     }
 
