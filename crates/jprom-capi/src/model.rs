@@ -400,7 +400,8 @@ pub unsafe extern "C" fn jprom_model_excitation_level(model: *const jprom_model,
 
 fn push_contact(model: &mut Model, c: Contact) -> Result<()> {
     model.contacts.push(c);
-    if let Err(e) = model.validate() {
+    // the handle's matrices were checked when it was made; only the contacts can be wrong now
+    if let Err(e) = model.validate_contacts() {
         model.contacts.pop();
         return Err(e);
     }

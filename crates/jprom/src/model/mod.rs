@@ -232,6 +232,23 @@ impl Model {
             check_finite(&format!("{what}.cos"), &hf.cos)?;
             check_finite(&format!("{what}.sin"), &hf.sin)?;
         }
+        self.validate_contacts()?;
+        for &o in &self.output_dofs {
+            if o >= n {
+                return Err(JpError::invalid("output_dofs", format!("DoF {o} >= model size {n}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The contact part of [`Model::validate`]: each contact's DoFs, frame and law, and how
+    /// contacts share DoFs (same kinematics only, chains without a cycle). Cost `O(contacts +
+    /// n)`, so adding contacts one by one to a valid model need not re-check the matrices.
+    ///
+    /// # Errors
+    /// As [`Model::validate`], for the contacts.
+    pub fn validate_contacts(&self) -> Result<()> {
+        let n = self.n_dof();
         for (i, c) in self.contacts.iter().enumerate() {
             c.validate(i, n)?;
             for (k, &dof) in c.dofs_a.iter().enumerate() {
@@ -252,11 +269,6 @@ impl Model {
         }
         // Shared 'a' DoFs (same kinematics only) and chains (no cycle).
         contact_coordinates::ContactGroups::new(&self.contacts, n)?;
-        for &o in &self.output_dofs {
-            if o >= n {
-                return Err(JpError::invalid("output_dofs", format!("DoF {o} >= model size {n}")));
-            }
-        }
         Ok(())
     }
 
