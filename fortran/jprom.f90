@@ -912,7 +912,7 @@ contains
     name = from_c(jprom_status_name(int(status, c_int)))
   end function
 
-  !> The library's version ("0.2.0"), which may be newer than the one this binding was written for.
+  !> The library's version ("MAJOR.MINOR.PATCH"), which may be newer than the one this binding was written for.
   function jp_version() result(version)
     use jprom_c, only: jprom_version
     character(len=:), allocatable :: version

@@ -91,7 +91,7 @@
 #define JPROM_VERSION_MAJOR 0
 
 // Minor version.
-#define JPROM_VERSION_MINOR 2
+#define JPROM_VERSION_MINOR 3
 
 // Patch version.
 #define JPROM_VERSION_PATCH 0

@@ -204,7 +204,7 @@ pub extern "C" fn jprom_status_name(status: c_int) -> *const c_char {
 /// tests/ffi_header.rs).
 pub const JPROM_VERSION_MAJOR: u32 = 0;
 /// Minor version.
-pub const JPROM_VERSION_MINOR: u32 = 2;
+pub const JPROM_VERSION_MINOR: u32 = 3;
 /// Patch version.
 pub const JPROM_VERSION_PATCH: u32 = 0;
 
