@@ -380,17 +380,7 @@ pub unsafe extern "C" fn jprom_sweep(
     user_data: *mut c_void,
     out: *mut *mut jprom_sweep_result,
 ) -> jprom_status {
-    ffi_guard!({
-        let m = handle::get(model, "model")?;
-        let (opts, o) = hbm_options(options)?;
-        let sopts = sweep_options(sweep_opts)?;
-        let out = out_arg(out, "out")?;
-        let sys = system(m, &opts, o.condensed)?;
-        let mut on_point = progress_adapter(callback, user_data);
-        let result = hbm::sweep(sys.as_ref(), &sopts, &opts, &mut on_point)?;
-        *out = jprom_sweep_result::wrap(SweepRecord::full_order(result), Origin::FullOrder);
-        Ok(())
-    })
+    jprom_sweep_from(model, options, sweep_opts, std::ptr::null(), callback, user_data, out)
 }
 
 /// Adapts the C progress callback to the sweep's `on_point` closure.

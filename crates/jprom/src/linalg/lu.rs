@@ -105,7 +105,13 @@ impl EquilibratedLu {
     /// As [`lu_checked`], on the equilibrated matrix.
     pub fn new(a: &Mat<f64>, what: &str) -> Result<Self> {
         let norm_or_one = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
-        let col: Vec<f64> = (0..a.ncols()).map(|j| 1.0 / norm_or_one(a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt())).collect();
+        let norms: Vec<f64> = (0..a.ncols()).map(|j| a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt()).collect();
+        // a zero column is an unknown no equation holds (e.g. a mass held only by an open
+        // contact): say so instead of the NaN pivot it would give
+        if let Some(j) = norms.iter().position(|&s| s == 0.0) {
+            return Err(JpError::singular(format!("{what}: unknown {j} appears in no equation (its column is zero: nothing holds it, e.g. a DoF held only by an open contact or a free rigid-body motion)")));
+        }
+        let col: Vec<f64> = norms.iter().map(|&s| 1.0 / norm_or_one(s)).collect();
         let mut b = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * col[j]);
         let row: Vec<f64> = (0..b.nrows()).map(|i| 1.0 / norm_or_one((0..b.ncols()).map(|j| b[(i, j)] * b[(i, j)]).sum::<f64>().sqrt())).collect();
         for j in 0..b.ncols() {
@@ -135,4 +141,21 @@ pub fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod equilibrated_tests {
+    use super::*;
+
+    #[test]
+    fn a_zero_column_is_named_not_a_nan_pivot() {
+        let a = Mat::from_fn(3, 3, |i, j| if j == 1 { 0.0 } else if i == j { 2.0 } else { 0.5 });
+        let e = EquilibratedLu::new(&a, "Jacobian of the test").err().expect("singular");
+        let text = e.to_string();
+        assert!(text.contains("unknown 1 appears in no equation"), "{text}");
+        let ok = Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.5 });
+        let x = EquilibratedLu::new(&ok, "ok").unwrap().solve(&[1.0, 2.0, 3.0]);
+        let r = mat_vec(&ok, &x);
+        assert!((r[0] - 1.0).abs() + (r[1] - 2.0).abs() + (r[2] - 3.0).abs() < 1e-12);
+    }
 }
