@@ -57,6 +57,18 @@ pub struct LinearPart {
     pub fh_sin: Vec<Vec<f64>>,
 }
 
+impl LinearPart {
+    /// The same linear part with the harmonic forces `f_h`, `h >= 1`, times `lambda` (the static
+    /// force kept): the forcing level of the point solver's load stepping and continuation.
+    pub fn with_harmonic_forces_scaled(&self, lambda: f64) -> LinearPart {
+        let mut l = self.clone();
+        for f in l.fh_cos.iter_mut().chain(l.fh_sin.iter_mut()) {
+            f.iter_mut().for_each(|v| *v *= lambda);
+        }
+        l
+    }
+}
+
 /// A system that the HBM solver, the continuation and the error metric can work on.
 pub trait HarmonicSystem: Sync {
     /// Harmonics and unknowns per harmonic.

@@ -248,20 +248,13 @@ fn load_stepping(
     omega: f64,
     ws: &mut ResidualWorkspace,
 ) -> Result<NewtonOutcome> {
-    let scaled = |lambda: f64| {
-        let mut l = lin.clone();
-        for f in l.fh_cos.iter_mut().chain(l.fh_sin.iter_mut()) {
-            f.iter_mut().for_each(|v| *v *= lambda);
-        }
-        l
-    };
     let no_convergence = |iterations: usize, residual: f64| JpError::NoConvergence {
         what: format!("HBM load stepping at omega = {omega}"),
         iterations,
         residual,
     };
     let mut used = 0;
-    let mut current = match newton(system, &scaled(0.0), plan, z0, opts, budget, omega, ws) {
+    let mut current = match newton(system, &lin.with_harmonic_forces_scaled(0.0), plan, z0, opts, budget, omega, ws) {
         Ok(o) => o,
         Err(f) => return Err(if matches!(f.error, JpError::NoConvergence { .. }) { no_convergence(f.iterations, f.residual_norm) } else { f.error }),
     };
@@ -272,7 +265,7 @@ fn load_stepping(
             return Err(no_convergence(used, f64::NAN));
         }
         let next = (lambda + step).min(1.0);
-        let stage = if next == 1.0 { lin.clone() } else { scaled(next) };
+        let stage = if next == 1.0 { lin.clone() } else { lin.with_harmonic_forces_scaled(next) };
         match newton(system, &stage, plan, current.z.clone(), opts, (budget - used).min(LOAD_STAGE_ITERATIONS), omega, ws) {
             Ok(o) => {
                 used += o.iterations;
@@ -364,10 +357,7 @@ fn level_continuation(
         iterations,
         residual,
     };
-    let mut lin0 = lin.clone();
-    for f in lin0.fh_cos.iter_mut().chain(lin0.fh_sin.iter_mut()) {
-        f.iter_mut().for_each(|v| *v = 0.0);
-    }
+    let lin0 = lin.with_harmonic_forces_scaled(0.0);
     let start = newton(system, &lin0, plan, z0, opts, budget, omega, ws).map_err(|f| match f.error {
         JpError::NoConvergence { .. } => no_convergence(f.iterations, f.residual_norm),
         e => e,
