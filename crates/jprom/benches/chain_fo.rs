@@ -3,9 +3,10 @@
 //! time per converged frequency point of the full and the condensed system, the peak resident
 //! memory and the share of system time (allocation churn shows there).
 //!
-//! `cargo bench -p jprom --bench chain_fo` prints a table for n = 20, 50, 200;
-//! `JPROM_BENCH_LARGE=1` adds n = 1,000 (the dense path then needs several GB and minutes per
-//! point: the HBM Jacobian is solved dense although it has O(n H^2) nonzeros).
+//! `cargo bench -p jprom --bench chain_fo` prints a table for n = 20, 50, 200, 1,000 (the full
+//! system as stored by default: sparse HBM Jacobian and sparse LU from 1,000 unknowns; up to
+//! n = 200 also the dense and the condensed solve, each checked against it);
+//! `JPROM_BENCH_LARGE=1` adds n = 5,000.
 //! A Python peer (pyHarm) is timed beside it only if `python3 -c "import pyHarm"` works.
 
 mod common;
@@ -14,7 +15,8 @@ use common::vm_hwm_mb;
 use faer::Mat;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::Contact;
-use jprom::hbm::{solve_point, FullSystem, HarmonicSystem, HbmOptions};
+use jprom::hbm::full::SPARSE_MIN_UNKNOWNS;
+use jprom::hbm::{solve_point, FullSystem, HbmOptions, Storage};
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use std::time::Instant;
 
@@ -54,13 +56,17 @@ fn chain(n: usize) -> (Model, f64) {
 }
 
 fn main() {
-    let mut sizes = vec![20, 50, 200];
+    let mut sizes = vec![20, 50, 200, 1000];
     if std::env::var("JPROM_BENCH_LARGE").is_ok() {
-        sizes.push(1000);
+        sizes.push(5000);
     }
     let opts = HbmOptions::with_harmonics(H);
     println!("chain of n Jenkins-damped masses, H = {H}, nt = {}, one point from zero near the first stuck resonance", opts.nt());
-    println!("{:>6} {:>12} {:>12} {:>8} {:>14} {:>8} {:>10} {:>10}", "n", "add n [s]", "full [s/pt]", "iters", "condensed [s]", "iters", "sys share", "peak MB");
+    println!("full = the full-order system as stored by default (sparse from {SPARSE_MIN_UNKNOWNS} unknowns when K, M, C are sparse); dense and condensed up to n = {DENSE_UP_TO}");
+    println!(
+        "{:>6} {:>10} {:>8} {:>12} {:>6} {:>12} {:>14} {:>10} {:>8}",
+        "n", "add n [s]", "storage", "full [s/pt]", "iters", "dense [s/pt]", "condensed [s]", "sys share", "peak MB"
+    );
     for n in sizes {
         let (model, add_s) = chain(n);
         // near the lowest stuck natural frequency (K + 0.5 I): omega_1 ~ sqrt(0.5 + small)
@@ -70,24 +76,44 @@ fn main() {
         let t = Instant::now();
         let p = solve_point(&full, omega, None, &opts);
         let full_s = t.elapsed().as_secs_f64();
-        let full_it = p.as_ref().map(|p| p.iterations.to_string()).unwrap_or_else(|e| format!("fail: {e}"));
-        let cond = CondensedSystem::new(&model, &opts).expect("condensed system");
-        let t = Instant::now();
-        let q = solve_point(&cond, omega, None, &opts);
-        let cond_s = t.elapsed().as_secs_f64();
-        let cond_it = q.as_ref().map(|p| p.iterations.to_string()).unwrap_or_else(|e| format!("fail: {e}"));
-        if let (Ok(p), Ok(q)) = (&p, &q) {
-            let (a, b) = (p.output_amplitude(1, 0), q.output_amplitude(1, 0));
-            assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-12), "full {a} vs condensed {b}");
-        }
         let (u1, s1) = cpu_seconds();
         let share = if u1 + s1 > u0 + s0 { (s1 - s0) / ((u1 - u0) + (s1 - s0)) } else { 0.0 };
-        println!("{n:>6} {add_s:>12.4} {full_s:>12.3} {full_it:>8} {cond_s:>14.3} {cond_it:>8} {:>9.0}% {:>10.0}", 100.0 * share, vm_hwm_mb());
-        let _ = full.layout();
+        let full_it = p.as_ref().map(|p| p.iterations.to_string()).unwrap_or_else(|e| format!("fail: {e}"));
+        let (mut dense_s, mut cond_s) = (String::from("-"), String::from("-"));
+        if n <= DENSE_UP_TO {
+            for (storage, out) in [(Storage::Dense, &mut dense_s)] {
+                let sys = FullSystem::with_storage(&model, &opts, storage).expect("dense system");
+                let t = Instant::now();
+                let q = solve_point(&sys, omega, None, &opts);
+                *out = format!("{:.3}", t.elapsed().as_secs_f64());
+                check_same(&p, &q, "dense");
+            }
+            let cond = CondensedSystem::new(&model, &opts).expect("condensed system");
+            let t = Instant::now();
+            let q = solve_point(&cond, omega, None, &opts);
+            cond_s = format!("{:.3}", t.elapsed().as_secs_f64());
+            check_same(&p, &q, "condensed");
+        }
+        let storage = format!("{:?}", full.storage()).to_lowercase();
+        println!(
+            "{n:>6} {add_s:>10.4} {storage:>8} {full_s:>12.3} {full_it:>6} {dense_s:>12} {cond_s:>14} {:>9.0}% {:>8.0}",
+            100.0 * share,
+            vm_hwm_mb()
+        );
     }
     let peer = std::process::Command::new("python3").args(["-c", "import pyHarm"]).output();
     match peer {
         Ok(o) if o.status.success() => println!("pyHarm is installed: time it on the same chain by hand (no driver here yet)"),
         _ => println!("pyHarm is not installed: no peer ratio"),
+    }
+}
+
+/// Largest `n` solved also dense and condensed (both dense solves of `(n (2H+1))^2` matrices).
+const DENSE_UP_TO: usize = 200;
+
+fn check_same(p: &jprom::Result<jprom::hbm::PointSolution>, q: &jprom::Result<jprom::hbm::PointSolution>, what: &str) {
+    if let (Ok(p), Ok(q)) = (p, q) {
+        let (a, b) = (p.output_amplitude(1, 0), q.output_amplitude(1, 0));
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-12), "full {a} vs {what} {b}");
     }
 }

@@ -58,7 +58,7 @@ fn run(label: &str, model: &Model, h: usize, band: (f64, f64)) {
     let t = Instant::now();
     let (_, jac) = evaluate(&sys, &lin, Some(&plan), &p.z, true, &mut ws).expect("evaluate");
     let t_eval = t.elapsed().as_secs_f64();
-    let jac = jac.expect("jacobian");
+    let jac = jac.expect("jacobian").into_dense();
     let t = Instant::now();
     let lu = jac.partial_piv_lu();
     let t_lu = t.elapsed().as_secs_f64();

@@ -11,7 +11,7 @@ use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::{Contact, ContactLaw};
 use jprom::hbm::residual::{evaluate, ResidualWorkspace};
-use jprom::hbm::{solve_point, sweep, FullSystem, HarmonicSystem, HbmOptions, SweepOptions};
+use jprom::hbm::{solve_point, sweep, FullSystem, HarmonicSystem, HbmOptions, Storage, SweepOptions};
 use jprom::model::{Damping, Model};
 use std::ops::ControlFlow;
 
@@ -106,16 +106,19 @@ fn assembled_jacobian_matches_finite_differences() {
     for h in [1usize, 3] {
         let opts = HbmOptions::with_harmonics(h);
         let full = FullSystem::new(&model, &opts).unwrap();
+        // the same system stored sparse: its Jacobian is assembled from entries, not scattered
+        let sparse = FullSystem::with_storage(&model, &opts, Storage::Sparse).unwrap();
+        assert_eq!(sparse.storage(), Storage::Sparse);
         let cond = CondensedSystem::new(&model, &opts).unwrap();
         let plan = AftPlan::new(h, opts.nt()).unwrap();
-        for system in [&full as &dyn HarmonicSystem, &cond] {
+        for system in [&full as &dyn HarmonicSystem, &sparse, &cond] {
             let w = 3000.0;
             let lin = system.linear_part(w).unwrap();
             let n = system.layout().total();
             let z: Vec<f64> = (0..n).map(|i| 0.02 * ((i as f64) * 1.37).sin()).collect();
             let mut ws = ResidualWorkspace::new();
             let (_, jac) = evaluate(system, &lin, Some(&plan), &z, true, &mut ws).unwrap();
-            let jac = jac.unwrap();
+            let jac = jac.unwrap().into_dense();
             let mut max_err = 0.0f64;
             let scale = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).map(|(i, j)| jac[(i, j)].abs()).fold(0.0, f64::max);
             for j in 0..n {

@@ -206,7 +206,7 @@ impl HarmonicSystem for CondensedSystem {
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
         check_omega(omega)?;
         let mut lin = LinearPart {
-            d0: self.h0.clone(),
+            d0: self.h0.clone().into(),
             f0: self.g0.clone(),
             dh_re: Vec::new(),
             dh_im: Vec::new(),
@@ -215,8 +215,8 @@ impl HarmonicSystem for CondensedSystem {
         };
         for h in 1..=self.layout.harmonics {
             let (re, im, gc, gs) = self.condensed_harmonic(omega, h)?;
-            lin.dh_re.push(re);
-            lin.dh_im.push(im);
+            lin.dh_re.push(re.into());
+            lin.dh_im.push(im.into());
             lin.fh_cos.push(gc);
             lin.fh_sin.push(gs);
         }
@@ -327,7 +327,7 @@ impl ProjectedCondensation {
     pub fn linear_part(&self, omega: f64) -> Result<LinearPart> {
         check_omega(omega)?;
         let mut lin = LinearPart {
-            d0: self.d0.clone(),
+            d0: self.d0.clone().into(),
             f0: self.f0.clone(),
             dh_re: Vec::new(),
             dh_im: Vec::new(),
@@ -368,8 +368,8 @@ impl ProjectedCondensation {
                     gs[i] += prod[(i, nh)].im;
                 }
             }
-            lin.dh_re.push(re);
-            lin.dh_im.push(im);
+            lin.dh_re.push(re.into());
+            lin.dh_im.push(im.into());
             lin.fh_cos.push(gc);
             lin.fh_sin.push(gs);
         }

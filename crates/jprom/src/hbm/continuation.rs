@@ -45,12 +45,10 @@
 use super::newton::{self, NewtonSettings, NonlinearProblem};
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
 use super::solve::{finish_point, newton, plan_for, reference_force, NewtonOutcome};
-use crate::linalg::EquilibratedLu;
 use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
-use crate::linalg::norm2;
-use faer::Mat;
+use crate::linalg::{norm2, Matrix, MatrixLu, SymbolicCache};
 use std::ops::ControlFlow;
 
 /// Most retries of one step at half the length because its tangent turned by more than
@@ -111,18 +109,26 @@ impl Metric {
 }
 
 /// `[J_z  R_omega]` at a point (rows divided by the reference force, which changes neither the
-/// tangent nor the corrector's Newton step).
+/// tangent nor the corrector's Newton step): `J_z` in the system's storage and the column
+/// `R_omega`.
 struct Linearisation {
-    top: Mat<f64>,
+    jz: Matrix,
+    r_omega: Vec<f64>,
+}
+
+impl Linearisation {
+    /// `[J_z  R_omega; row^T]`.
+    fn bordered(&self, row: &[f64]) -> Result<Matrix> {
+        self.jz.bordered(&self.r_omega, row)
+    }
 }
 
 /// Unit tangent (in the metric) of the branch whose linearisation is `lz`, oriented so that
 /// `orient^T S t > 0`.
 fn tangent(lz: &Linearisation, orient: &[f64], m: Metric, omega: f64) -> Result<Vec<f64>> {
-    let n = lz.top.nrows();
-    let row = m.apply(orient);
-    let b = Mat::from_fn(n + 1, n + 1, |i, j| if i < n { lz.top[(i, j)] } else { row[j] });
-    let lu = EquilibratedLu::new(&b, &format!("continuation tangent system at omega = {omega}"))?;
+    let n = lz.jz.nrows();
+    let b = lz.bordered(&m.apply(orient))?;
+    let lu = MatrixLu::new(&b, &format!("continuation tangent system at omega = {omega}"), &mut SymbolicCache::new())?;
     let mut rhs = vec![0.0; n + 1];
     rhs[n] = 1.0;
     m.unit(&lu.solve(&rhs)).ok_or_else(|| JpError::singular(format!("continuation tangent at omega = {omega}")))
@@ -151,7 +157,7 @@ struct Corrector<'a> {
 
 impl Corrector<'_> {
     /// `R / f_ref` and `[J_z  R_omega] / f_ref` at `y` (`f_ref` fixed at the first call).
-    fn linearise(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+    fn linearise(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Linearisation>)> {
         let n = y.len() - 1;
         let omega = y[n];
         if !(omega.is_finite() && omega > 0.0) {
@@ -166,9 +172,11 @@ impl Corrector<'_> {
             return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
         }
         let top = match jz {
-            Some(jz) => {
-                let r_omega = residual_omega_derivative(self.system, omega, &y[..n], self.sopts.omega_difference * omega)?;
-                Some(Mat::from_fn(n, n + 1, |i, j| s * if j < n { jz[(i, j)] } else { r_omega[i] }))
+            Some(mut jz) => {
+                let mut r_omega = residual_omega_derivative(self.system, omega, &y[..n], self.sopts.omega_difference * omega)?;
+                jz.scale(s);
+                r_omega.iter_mut().for_each(|v| *v *= s);
+                Some(Linearisation { jz, r_omega })
             }
             None => None,
         };
@@ -177,7 +185,7 @@ impl Corrector<'_> {
 }
 
 impl NonlinearProblem for Corrector<'_> {
-    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
         let n = y.len() - 1;
         let (mut r, top) = self.linearise(y, want_jacobian)?;
         let (g, row) = match self.constraint {
@@ -191,7 +199,8 @@ impl NonlinearProblem for Corrector<'_> {
             }
         };
         r.push(g / self.ds);
-        let jac = top.map(|top| Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { row[j] / self.ds }));
+        let row: Vec<f64> = row.iter().map(|v| v / self.ds).collect();
+        let jac = top.map(|lz| lz.bordered(&row)).transpose()?;
         Ok((r, jac))
     }
     fn converged(&self, r: &[f64], tolerance: f64) -> bool {
@@ -355,7 +364,7 @@ pub fn sweep_from(
     let mut dir = {
         let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
         let (_, top) = c.linearise(&y, true)?;
-        tangent(&Linearisation { top: top.expect("jacobian requested") }, &orient, metric, w0)?
+        tangent(&top.expect("jacobian requested"), &orient, metric, w0)?
     };
     let mut ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
     loop {
@@ -416,6 +425,9 @@ pub fn sweep_from(
                     ds *= 0.5;
                 }
                 Ok(v) => break v,
+                // a failed external law (C callback) is the caller's error, not a hard part of
+                // the branch: no shorter step would mend it, so the sweep ends with it
+                Err(e @ JpError::Callback { .. }) => return Err(e),
                 Err(e) => {
                     last_error = Some(e);
                     result.rejected_steps += 1;
@@ -432,7 +444,7 @@ pub fn sweep_from(
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
             let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
             let (_, top) = c.linearise(&corrected.y, true)?;
-            tangent(&Linearisation { top: top.expect("jacobian requested") }, &orient, metric, corrected.y[n])?
+            tangent(&top.expect("jacobian requested"), &orient, metric, corrected.y[n])?
         } else if corner {
             // past a corner the branch is as smooth as before it: go on with the planned step,
             // along the tangent of the new piece (the chord across the corner points between
@@ -440,7 +452,7 @@ pub fn sweep_from(
             ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
             let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
             let (_, top) = c.linearise(&corrected.y, true)?;
-            tangent(&Linearisation { top: top.expect("jacobian requested") }, &chord, metric, corrected.y[n])?
+            tangent(&top.expect("jacobian requested"), &chord, metric, corrected.y[n])?
         } else {
             let iters = corrected.iterations.max(1) as f64;
             let f_iter = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);

@@ -24,7 +24,7 @@ pub mod document;
 pub mod full;
 
 pub use continuation::{sweep, sweep_from};
-pub use full::FullSystem;
+pub use full::{FullSystem, Storage};
 pub use layout::HarmonicLayout;
 pub use options::{default_nt, HbmOptions, SweepOptions};
 pub use solution::{PointSolution, SweepEnd, SweepResult, LEFT_BAND_MARGIN};
@@ -32,7 +32,8 @@ pub use solve::solve_point;
 
 use crate::contact::{ContactLaw, Contacts};
 use crate::error::Result;
-use faer::{Mat, MatRef};
+use crate::linalg::Matrix;
+use faer::MatRef;
 
 /// How a system's harmonic-`h` unknowns map onto the contact coordinates `w` (length `n_w`).
 #[derive(Clone, Copy, Debug)]
@@ -43,16 +44,19 @@ pub enum ContactMap<'a> {
     Dense(MatRef<'a, f64>),
 }
 
-/// The linear part of a harmonic system at one frequency.
+/// The linear part of a harmonic system at one frequency. Its matrices are dense for reduced
+/// and condensed systems and sparse for the full-order system of a sparse model
+/// ([`full::Storage`]); when `D_0` is sparse, every `D_h` is, and the HBM Jacobian is built
+/// and factorised sparse.
 #[derive(Clone, Debug)]
 pub struct LinearPart {
     /// `D_0` (`n_0 x n_0`) and the static force `f_0`.
-    pub d0: Mat<f64>,
+    pub d0: Matrix,
     pub f0: Vec<f64>,
     /// For `h = 1..=H` (index `h - 1`): real and imaginary parts of the complex `D_h`
     /// (`n_h x n_h`), and the cos and sin parts of the force.
-    pub dh_re: Vec<Mat<f64>>,
-    pub dh_im: Vec<Mat<f64>>,
+    pub dh_re: Vec<Matrix>,
+    pub dh_im: Vec<Matrix>,
     pub fh_cos: Vec<Vec<f64>>,
     pub fh_sin: Vec<Vec<f64>>,
 }

@@ -15,15 +15,12 @@
 //! value, a frequency pushed below zero) counts as a failed trial and shrinks the radius.
 
 use crate::error::{JpError, Result};
-use crate::linalg::norm2;
-use faer::Mat;
-
-use crate::linalg::{mat_vec, EquilibratedLu};
+use crate::linalg::{norm2, Matrix, MatrixLu, SymbolicCache};
 
 /// A square system as the solver sees it.
 pub(crate) trait NonlinearProblem {
-    /// Dimensionless residual at `x` and, when asked, its Jacobian (dense, square).
-    fn evaluate(&mut self, x: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)>;
+    /// Dimensionless residual at `x` and, when asked, its Jacobian (square, dense or sparse).
+    fn evaluate(&mut self, x: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)>;
     /// Whether `r` (as returned by [`NonlinearProblem::evaluate`]) is converged.
     fn converged(&self, r: &[f64], tolerance: f64) -> bool {
         norm2(r) <= tolerance
@@ -58,26 +55,12 @@ pub(crate) struct NotConverged {
 }
 
 /// Column norms of `a` (zero or non-finite columns get 1).
-pub(crate) fn column_norms(a: &Mat<f64>) -> Vec<f64> {
-    (0..a.ncols())
-        .map(|j| {
-            let s = a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt();
-            if s > 0.0 && s.is_finite() {
-                s
-            } else {
-                1.0
-            }
-        })
-        .collect()
-}
-
-/// `a^T v`.
-fn mat_t_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
-    (0..a.ncols()).map(|j| a.col(j).iter().zip(v).map(|(x, y)| x * y).sum()).collect()
+pub(crate) fn column_norms(a: &Matrix) -> Vec<f64> {
+    a.column_norms().into_iter().map(|s| if s > 0.0 && s.is_finite() { s } else { 1.0 }).collect()
 }
 
 /// The dogleg step in unscaled unknowns, for radius `delta` in scaled ones.
-fn dogleg(jac: &Mat<f64>, r: &[f64], diag: &[f64], newton_dz: &[f64], delta: f64) -> Vec<f64> {
+fn dogleg(jac: &Matrix, r: &[f64], diag: &[f64], newton_dz: &[f64], delta: f64) -> Vec<f64> {
     let n = r.len();
     let p_newton: Vec<f64> = (0..n).map(|j| diag[j] * newton_dz[j]).collect();
     let len_newton = norm2(&p_newton);
@@ -85,10 +68,10 @@ fn dogleg(jac: &Mat<f64>, r: &[f64], diag: &[f64], newton_dz: &[f64], delta: f64
         return newton_dz.to_vec();
     }
     // Cauchy point of the scaled model: g̃ = J̃^T r = diag^-1 J^T r.
-    let jt_r = mat_t_vec(jac, r);
+    let jt_r = jac.mat_t_vec(r);
     let g: Vec<f64> = (0..n).map(|j| jt_r[j] / diag[j]).collect();
     let g_unscaled: Vec<f64> = (0..n).map(|j| g[j] / diag[j]).collect();
-    let jg = mat_vec(jac, &g_unscaled);
+    let jg = jac.mat_vec(&g_unscaled);
     let (g2, jg2) = (norm2(&g).powi(2), norm2(&jg).powi(2));
     let p: Vec<f64> = if jg2 == 0.0 || g2 == 0.0 {
         p_newton.iter().map(|v| v * delta / len_newton).collect()
@@ -128,7 +111,9 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
     let mut diag = if settings.scaling { column_norms(&jac) } else { vec![1.0; n] };
     let mut radius: Option<f64> = None;
     let what = problem.what();
-    let factor = |jac: &Mat<f64>| -> Result<EquilibratedLu> { EquilibratedLu::new(jac, &format!("Jacobian of the {what}")) };
+    // the Jacobians of one solve share a pattern: a sparse one is analysed once
+    let mut cache = SymbolicCache::new();
+    let mut factor = |jac: &Matrix| -> Result<MatrixLu> { MatrixLu::new(jac, &format!("Jacobian of the {what}"), &mut cache) };
     let mut lu = factor(&jac).map_err(|e| fail(0, rel, e))?;
     let mut newton_dz: Vec<f64> = lu.solve(&r).iter().map(|v| -v).collect();
     let mut iterations = 0;
@@ -157,7 +142,7 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
         let accepted = if !settings.trust_region {
             trial.is_some()
         } else {
-            let jdz = mat_vec(&jac, &dz);
+            let jdz = jac.mat_vec(&dz);
             let model: f64 = (0..n).map(|i| (r[i] + jdz[i]).powi(2)).sum();
             let pred = rel * rel - model;
             let actual = rel * rel - rel_trial * rel_trial;

@@ -14,12 +14,14 @@
 use super::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::aft::{evaluate_contacts, AftPlan, ContactCycle, ContactForces};
 use crate::error::{JpError, Result};
+use crate::linalg::{sparse_from_triplets, Matrix};
 use faer::{Accum, Mat, Par};
 
 /// Scratch memory of [`evaluate`], reused across Newton iterations.
 #[derive(Default)]
 pub struct ResidualWorkspace {
     w_all: Vec<f64>,
+    triplets: Vec<(usize, usize, f64)>,
     forces: ContactForces,
     contact_force_norm: f64,
 }
@@ -64,61 +66,79 @@ pub(crate) fn check_linear_part(layout: &HarmonicLayout, lin: &LinearPart) -> Re
 pub fn linear_residual(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64]) -> Vec<f64> {
     let mut r = vec![0.0; layout.total()];
     let n0 = layout.size(0);
-    for i in 0..n0 {
-        let mut s = -lin.f0[i];
-        for j in 0..n0 {
-            s += lin.d0[(i, j)] * z[j];
-        }
-        r[i] = s;
+    lin.d0.mul_add(&z[..n0], 1.0, &mut r[..n0]);
+    for (ri, f) in r[..n0].iter_mut().zip(&lin.f0) {
+        *ri -= f;
     }
     for h in 1..=layout.harmonics {
         let n = layout.size(h);
         let (oc, os) = (layout.cos_offset(h), layout.sin_offset(h));
         let (re, im) = (&lin.dh_re[h - 1], &lin.dh_im[h - 1]);
-        let (fc, fs) = (&lin.fh_cos[h - 1], &lin.fh_sin[h - 1]);
-        for j in 0..n {
-            let (zc, zs) = (z[oc + j], z[os + j]);
-            if zc == 0.0 && zs == 0.0 {
-                continue;
-            }
-            for i in 0..n {
-                // [Re D  Im D; -Im D  Re D] [zc; zs]
-                r[oc + i] += re[(i, j)] * zc + im[(i, j)] * zs;
-                r[os + i] += -im[(i, j)] * zc + re[(i, j)] * zs;
-            }
-        }
+        let (zc, zs) = (&z[oc..oc + n], &z[os..os + n]);
+        // [Re D  Im D; -Im D  Re D] [zc; zs]
+        let (rc, rs) = split_pair(&mut r, oc, os, n);
+        re.mul_add(zc, 1.0, rc);
+        im.mul_add(zs, 1.0, rc);
+        im.mul_add(zc, -1.0, rs);
+        re.mul_add(zs, 1.0, rs);
         for i in 0..n {
-            r[oc + i] -= fc[i];
-            r[os + i] -= fs[i];
+            rc[i] -= lin.fh_cos[h - 1][i];
+            rs[i] -= lin.fh_sin[h - 1][i];
         }
     }
     r
 }
 
-/// The linear Jacobian `D` as a dense matrix (block-diagonal over harmonics).
-pub fn linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart) -> Mat<f64> {
-    let nt = layout.total();
-    let mut jac = Mat::<f64>::zeros(nt, nt);
-    let n0 = layout.size(0);
-    for j in 0..n0 {
-        for i in 0..n0 {
-            jac[(i, j)] = lin.d0[(i, j)];
-        }
-    }
+/// The two disjoint ranges `[a, a + n)` and `[b, b + n)` of `r` (`a + n <= b`).
+fn split_pair(r: &mut [f64], a: usize, b: usize, n: usize) -> (&mut [f64], &mut [f64]) {
+    let (lo, hi) = r.split_at_mut(b);
+    (&mut lo[a..a + n], &mut hi[..n])
+}
+
+/// Whether the linear part is stored sparse (then the Jacobian is built sparse).
+fn is_sparse(lin: &LinearPart) -> bool {
+    lin.d0.is_sparse() && lin.dh_re.iter().chain(&lin.dh_im).all(Matrix::is_sparse)
+}
+
+/// The `(row, col, value)` entries of the linear Jacobian `D` (every stored entry, zeros
+/// included, so the pattern is the same at every frequency).
+fn linear_triplets(layout: &HarmonicLayout, lin: &LinearPart, out: &mut Vec<(usize, usize, f64)>) {
+    lin.d0.for_each_entry(|i, j, v| out.push((i, j, v)));
     for h in 1..=layout.harmonics {
-        let n = layout.size(h);
         let (oc, os) = (layout.cos_offset(h), layout.sin_offset(h));
-        let (re, im) = (&lin.dh_re[h - 1], &lin.dh_im[h - 1]);
-        for j in 0..n {
-            for i in 0..n {
-                jac[(oc + i, oc + j)] = re[(i, j)];
-                jac[(oc + i, os + j)] = im[(i, j)];
-                jac[(os + i, oc + j)] = -im[(i, j)];
-                jac[(os + i, os + j)] = re[(i, j)];
-            }
-        }
+        lin.dh_re[h - 1].for_each_entry(|i, j, v| {
+            out.push((oc + i, oc + j, v));
+            out.push((os + i, os + j, v));
+        });
+        lin.dh_im[h - 1].for_each_entry(|i, j, v| {
+            out.push((oc + i, os + j, v));
+            out.push((os + i, oc + j, -v));
+        });
     }
-    jac
+}
+
+/// The linear Jacobian `D` (block-diagonal over harmonics): sparse when the linear part is.
+pub fn linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart) -> Matrix {
+    let nt = layout.total();
+    if is_sparse(lin) {
+        let mut t = Vec::new();
+        linear_triplets(layout, lin, &mut t);
+        return Matrix::Sparse(sparse_from_triplets(nt, nt, t).expect("linear part entries are in range and finite"));
+    }
+    let mut jac = Mat::<f64>::zeros(nt, nt);
+    lin.d0.for_each_entry(|i, j, v| jac[(i, j)] = v);
+    for h in 1..=layout.harmonics {
+        let (oc, os) = (layout.cos_offset(h), layout.sin_offset(h));
+        lin.dh_re[h - 1].for_each_entry(|i, j, v| {
+            jac[(oc + i, oc + j)] = v;
+            jac[(os + i, os + j)] = v;
+        });
+        lin.dh_im[h - 1].for_each_entry(|i, j, v| {
+            jac[(oc + i, os + j)] = v;
+            jac[(os + i, oc + j)] = -v;
+        });
+    }
+    Matrix::Dense(jac)
 }
 
 /// Contact coordinates' harmonics `w_all` (harmonic-major, `(2H + 1) n_w`) from `z`.
@@ -170,6 +190,26 @@ fn scatter_contact_force(system: &dyn HarmonicSystem, force: &[f64], r: &mut [f6
         }
     }
     norm2_sq.sqrt()
+}
+
+/// The entries of `W^T K̂ W` for a system whose contact coordinates lead every harmonic
+/// ([`ContactMap::Leading`]): each contact's whole `d (2H+1)` square block, zeros included.
+fn contact_jacobian_triplets(system: &dyn HarmonicSystem, forces: &ContactForces, out: &mut Vec<(usize, usize, f64)>) {
+    let layout = system.layout();
+    let n_coeffs = 2 * layout.harmonics + 1;
+    let coeff_off: Vec<usize> = (0..n_coeffs).map(|k| layout.coeff_range(k).0).collect();
+    for (c, law) in system.contact_laws().iter().enumerate() {
+        let d = law.dim();
+        let n = d * n_coeffs;
+        let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + n * n];
+        let o = system.contact_offsets()[c];
+        for col in 0..n {
+            let gcol = coeff_off[col / d] + o + col % d;
+            for row in 0..n {
+                out.push((coeff_off[row / d] + o + row % d, gcol, block[row + col * n]));
+            }
+        }
+    }
 }
 
 /// Adds `W^T K̂ W` to `jac` from the per-contact blocks of `forces`.
@@ -251,7 +291,7 @@ fn scatter_contact_jacobian(system: &dyn HarmonicSystem, forces: &ContactForces,
 }
 
 /// Residual `r = D z - f + W^T F(W z)` and, when asked, the Jacobian `J = D + W^T K̂ W`
-/// (dense, `N_tot x N_tot`). `plan` may be `None` only for a system without contacts (the
+/// (`N_tot x N_tot`, sparse when the system's linear part is, dense otherwise). `plan` may be `None` only for a system without contacts (the
 /// AFT is never called then).
 ///
 /// # Errors
@@ -264,16 +304,20 @@ pub fn evaluate(
     z: &[f64],
     want_jacobian: bool,
     ws: &mut ResidualWorkspace,
-) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+) -> Result<(Vec<f64>, Option<Matrix>)> {
     let layout = system.layout();
     if z.len() != layout.total() {
         return Err(JpError::bad_size("HBM unknowns z", layout.total(), z.len()));
     }
     check_linear_part(layout, lin)?;
     let mut r = linear_residual(layout, lin, z);
-    let mut jac = want_jacobian.then(|| linear_jacobian(layout, lin));
+    let leading = (0..=layout.harmonics).all(|h| matches!(system.contact_map(h), ContactMap::Leading));
+    // a sparse system's Jacobian is assembled once from the entries of D and of the contacts
+    let sparse = want_jacobian && is_sparse(lin) && leading;
+    let mut jac = (want_jacobian && !sparse).then(|| linear_jacobian(layout, lin).into_dense());
     ws.contact_force_norm = 0.0;
     if system.contact_laws().is_empty() {
+        let jac = if sparse { Some(linear_jacobian(layout, lin)) } else { jac.map(Matrix::Dense) };
         return Ok((r, jac));
     }
     let plan = contact_plan(system, plan)?;
@@ -291,10 +335,20 @@ pub fn evaluate(
     // a failed external law (C callback) ends the evaluation with its error, never NaN
     ws.forces.check()?;
     ws.contact_force_norm = scatter_contact_force(system, &ws.forces.force, &mut r);
+    if sparse {
+        let nt = layout.total();
+        let mut t = std::mem::take(&mut ws.triplets);
+        t.clear();
+        linear_triplets(layout, lin, &mut t);
+        contact_jacobian_triplets(system, &ws.forces, &mut t);
+        let j = sparse_from_triplets(nt, nt, t.clone())?;
+        ws.triplets = t;
+        return Ok((r, Some(Matrix::Sparse(j))));
+    }
     if let Some(j) = jac.as_mut() {
         scatter_contact_jacobian(system, &ws.forces, j);
     }
-    Ok((r, jac))
+    Ok((r, jac.map(Matrix::Dense)))
 }
 
 /// The per-contact cycle reports (states per time sample, dissipated energy) at `z`; empty

@@ -8,8 +8,7 @@ use super::residual::{self, evaluate, ResidualWorkspace};
 use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
-use crate::linalg::norm2;
-use faer::Mat;
+use crate::linalg::{norm2, Matrix, MatrixLu, SymbolicCache};
 
 /// Norm of the external force `f` of a linear part (all harmonics).
 pub(crate) fn force_norm(lin: &LinearPart) -> f64 {
@@ -62,13 +61,13 @@ struct PointProblem<'a> {
 }
 
 impl NonlinearProblem for PointProblem<'_> {
-    fn evaluate(&mut self, z: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+    fn evaluate(&mut self, z: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
         let (mut r, mut jac) = evaluate(self.system, self.lin, self.plan, z, want_jacobian, self.ws)?;
         let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(self.lin, self.ws.contact_force_norm(), norm2(&r)));
         let s = 1.0 / f_ref;
         r.iter_mut().for_each(|v| *v *= s);
         if let Some(j) = jac.as_mut() {
-            *j *= faer::Scale(s);
+            j.scale(s);
         }
         Ok((r, jac))
     }
@@ -305,25 +304,32 @@ struct LevelProblem<'a> {
 }
 
 impl LevelProblem<'_> {
-    /// `R(z, lambda) / f_ref` and `[J_z  -f_dyn] / f_ref`.
-    fn top(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+    /// `R(z, lambda) / f_ref` and `[J_z  -f_dyn] / f_ref` (as `J_z / f_ref` and its last column).
+    fn top(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<(Matrix, Vec<f64>)>)> {
         let n = y.len() - 1;
         let (mut r, jz) = evaluate(self.system, self.lin0, self.plan, &y[..n], want_jacobian, self.ws)?;
         let s = 1.0 / self.f_ref;
         for (i, v) in r.iter_mut().enumerate() {
             *v = *v * s - y[n] * self.g[i];
         }
-        Ok((r, jz.map(|jz| Mat::from_fn(n, n + 1, |i, j| if j < n { s * jz[(i, j)] } else { -self.g[i] }))))
+        Ok((
+            r,
+            jz.map(|mut jz| {
+                jz.scale(s);
+                (jz, self.g.iter().map(|g| -g).collect())
+            }),
+        ))
     }
 }
 
 impl NonlinearProblem for LevelProblem<'_> {
-    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
         let n = y.len() - 1;
         let (mut r, top) = self.top(y, want_jacobian)?;
         let (st, yp) = self.constraint.as_ref().expect("a constraint is set before solving");
         r.push((0..=n).map(|i| st[i] * (y[i] - yp[i])).sum::<f64>() / self.ds);
-        let jac = top.map(|top| Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { st[j] / self.ds }));
+        let row: Vec<f64> = st.iter().map(|v| v / self.ds).collect();
+        let jac = top.map(|(jz, col)| jz.bordered(&col, &row)).transpose()?;
         Ok((r, jac))
     }
     fn what(&self) -> String {
@@ -387,13 +393,14 @@ fn level_continuation(
         // tangent: [J_z  -g; (S t_prev)^T] t = [0; 1]
         let (_, top) = problem.top(&y, true)?;
         used += 1;
-        let top = top.expect("jacobian requested");
+        let (jz, col) = top.expect("jacobian requested");
         let weights = |sz: f64| (0..=n).map(|i| if i < n { sz } else { 1.0 }).collect::<Vec<f64>>();
         let w = weights(sz.unwrap_or(1.0));
-        let b = Mat::from_fn(n + 1, n + 1, |i, j| if i < n { top[(i, j)] } else { w[j] * t_prev[j] });
+        let row: Vec<f64> = (0..=n).map(|j| w[j] * t_prev[j]).collect();
+        let b = jz.bordered(&col, &row)?;
         let mut rhs = vec![0.0; n + 1];
         rhs[n] = 1.0;
-        let t_raw = crate::linalg::EquilibratedLu::new(&b, &format!("level continuation tangent at omega = {omega}"))?.solve(&rhs);
+        let t_raw = MatrixLu::new(&b, &format!("level continuation tangent at omega = {omega}"), &mut SymbolicCache::new())?.solve(&rhs);
         // z scaled by |dz/dlambda| at the start: a unit of arclength first moves lambda by ~1
         let sz = *sz.get_or_insert_with(|| {
             let dz = norm2(&t_raw[..n]) / t_raw[n].abs().max(1e-300);

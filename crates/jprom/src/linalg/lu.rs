@@ -109,7 +109,7 @@ impl EquilibratedLu {
         // a zero column is an unknown no equation holds (e.g. a mass held only by an open
         // contact): say so instead of the NaN pivot it would give
         if let Some(j) = norms.iter().position(|&s| s == 0.0) {
-            return Err(JpError::singular(format!("{what}: unknown {j} appears in no equation (its column is zero: nothing holds it, e.g. a DoF held only by an open contact or a free rigid-body motion)")));
+            return Err(zero_column(what, j));
         }
         let col: Vec<f64> = norms.iter().map(|&s| 1.0 / norm_or_one(s)).collect();
         let mut b = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * col[j]);
@@ -127,6 +127,13 @@ impl EquilibratedLu {
         let b: Vec<f64> = rhs.iter().zip(&self.row).map(|(v, r)| v * r).collect();
         lu_solve(&self.lu, &b).iter().zip(&self.col).map(|(y, c)| y * c).collect()
     }
+}
+
+/// The error of a matrix whose column `j` is zero.
+pub(crate) fn zero_column(what: &str, j: usize) -> JpError {
+    JpError::singular(format!(
+        "{what}: unknown {j} appears in no equation (its column is zero: nothing holds it, e.g. a DoF held only by an open contact or a free rigid-body motion)"
+    ))
 }
 
 /// `a v`.

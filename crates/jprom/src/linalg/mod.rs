@@ -1,13 +1,15 @@
 //! Linear algebra shared by the numerical modules: checked dense LU ([`lu`]), sparse matrices
-//! ([`sparse`]), dense eigen solvers ([`eigen`]), sparse Cholesky and shift-invert Lanczos
-//! ([`lanczos`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
+//! ([`sparse`]), a matrix dense or sparse with one checked LU for both ([`matrix`]), dense
+//! eigen solvers ([`eigen`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
 
 pub mod eigen;
 pub mod lanczos;
 pub mod lu;
+pub mod matrix;
 pub mod sparse;
 
 pub use lu::{check_nonsingular, lu_checked, lu_solve, mat_vec, solve_checked, EquilibratedLu};
+pub use matrix::{Matrix, MatrixLu, SymbolicCache};
 pub use sparse::{sparse_from_triplets, sparse_matvec, sparse_to_dense, sparse_triplets, SparseMat};
 
 use crate::error::{JpError, Result};

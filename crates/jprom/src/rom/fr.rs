@@ -252,7 +252,7 @@ impl HarmonicSystem for FrRom {
         }
         let p0 = &self.parts[0];
         let mut lin = LinearPart {
-            d0: p0.k.clone(),
+            d0: p0.k.clone().into(),
             f0: p0.f_cos.clone(),
             dh_re: Vec::new(),
             dh_im: Vec::new(),
@@ -263,8 +263,8 @@ impl HarmonicSystem for FrRom {
             let p = &self.parts[h];
             let hw = h as f64 * omega;
             let nh = p.k.nrows();
-            lin.dh_re.push(Mat::from_fn(nh, nh, |i, j| p.k[(i, j)] - hw * hw * p.m[(i, j)]));
-            lin.dh_im.push(Mat::from_fn(nh, nh, |i, j| dissipation(hw, p.c[(i, j)], p.k[(i, j)], self.loss_factor)));
+            lin.dh_re.push(Mat::from_fn(nh, nh, |i, j| p.k[(i, j)] - hw * hw * p.m[(i, j)]).into());
+            lin.dh_im.push(Mat::from_fn(nh, nh, |i, j| dissipation(hw, p.c[(i, j)], p.k[(i, j)], self.loss_factor)).into());
             lin.fh_cos.push(p.f_cos.clone());
             lin.fh_sin.push(p.f_sin.clone());
         }
