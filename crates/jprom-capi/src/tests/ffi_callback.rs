@@ -124,6 +124,38 @@ fn a_callback_error_is_a_status_with_the_element_and_the_sample() {
     }
 }
 
+/// A linear law that returns 5 from its 3,000th call on (a few points into a sweep).
+unsafe extern "C" fn fails_after_many(user_data: *mut c_void, _dim: usize, w: *const f64, force: *mut f64, jacobian: *mut f64) -> i32 {
+    let calls = &*(user_data as *const AtomicUsize);
+    if calls.fetch_add(1, Ordering::SeqCst) + 1 >= 3000 {
+        return 5;
+    }
+    *force = 0.8 * *w;
+    *jacobian = 0.8;
+    0
+}
+
+#[test]
+fn a_sweep_that_meets_a_callback_error_returns_its_status() {
+    unsafe {
+        let calls = AtomicUsize::new(0);
+        let p = two_dof();
+        ok(jprom_model_add_element_callback(p, 1, &1usize, &0usize, null(), Some(fails_after_many), &calls as *const AtomicUsize as *mut c_void));
+        let mut so = std::mem::zeroed::<jprom_sweep_options>();
+        ok(jprom_sweep_options_init(&mut so, std::mem::size_of::<jprom_sweep_options>()));
+        so.omega_start = 0.3;
+        so.omega_end = 3.0;
+        let mut out = null_mut();
+        let st = jprom_sweep(p, &options(3), &so, None, null_mut(), &mut out);
+        let msg = message();
+        println!("{st:?}: {msg} after {} calls", calls.load(Ordering::SeqCst));
+        assert_eq!(st, jprom_status::JPROM_CALLBACK_ERROR, "{msg}");
+        assert!(out.is_null(), "nothing is written on an error");
+        assert!(msg.starts_with("element 0: callback returned 5 at sample"), "{msg}");
+        ok(jprom_model_free(p));
+    }
+}
+
 #[test]
 fn null_callback_bad_dim_bad_frame_and_saving_are_refused() {
     unsafe {

@@ -69,10 +69,14 @@ pub fn full_order_contact_displacement(fo: &PointSolution, n_w: usize) -> Result
 }
 
 /// Contact forces (and, on request, cycle reports) at the harmonic-major `w`.
-pub fn contact_forces(rom: &dyn ReducedModel, plan: &AftPlan, w: &[f64], want_cycles: bool) -> ContactForces {
+///
+/// # Errors
+/// A failed external law's error ([`JpError::Callback`]), never its NaN.
+pub fn contact_forces(rom: &dyn ReducedModel, plan: &AftPlan, w: &[f64], want_cycles: bool) -> Result<ContactForces> {
     let mut out = ContactForces::default();
     evaluate_contacts(plan, rom.contact_laws(), rom.contact_offsets(), rom.n_contact_coords(), w, false, want_cycles, &mut out);
-    out
+    out.check()?;
+    Ok(out)
 }
 
 /// Norm over the cos and sin parts of harmonic `h` of per-coefficient vectors.
@@ -103,7 +107,7 @@ pub fn predicted_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[
     }
     let nw = rom.n_contact_coords();
     let w = reduced_contact_displacement(rom, omega, z)?;
-    let forces = contact_forces(rom, plan, &w, false);
+    let forces = contact_forces(rom, plan, &w, false)?;
     let f_rom = split(&forces.force, nw, 2 * hh + 1);
     let mut defect = rom.implied_contact_force(omega, z)?;
     // Contact rows only (see the module doc).
@@ -141,8 +145,8 @@ pub fn actual_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64
         return Err(JpError::invalid("full-order solution", format!("H = {}, model H = {hh}", fo.layout.harmonics)));
     }
     let nw = rom.n_contact_coords();
-    let f_rom = split(&contact_forces(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false).force, nw, 2 * hh + 1);
-    let f_fo = split(&contact_forces(rom, plan, &full_order_contact_displacement(fo, nw)?, false).force, nw, 2 * hh + 1);
+    let f_rom = split(&contact_forces(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false)?.force, nw, 2 * hh + 1);
+    let f_fo = split(&contact_forces(rom, plan, &full_order_contact_displacement(fo, nw)?, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_rom.iter().zip(&f_fo).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }
@@ -166,12 +170,12 @@ pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, pla
     let lin = condensed.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
     let (r, jac) = evaluate(condensed, &lin, Some(plan), &w, true, &mut ws)?;
-    let jac = jac.expect("jacobian requested");
+    let jac = jac.expect("jacobian requested").into_dense();
     let lu = crate::linalg::lu_checked(&jac, &format!("condensed full-order Jacobian at omega = {omega} (linearised error)"))?;
     let dw = crate::linalg::lu_solve(&lu, &r);
     let corrected: Vec<f64> = w.iter().zip(&dw).map(|(a, d)| a - d).collect();
-    let f_rom = split(&contact_forces(rom, plan, &w, false).force, nw, 2 * hh + 1);
-    let f_new = split(&contact_forces(rom, plan, &corrected, false).force, nw, 2 * hh + 1);
+    let f_rom = split(&contact_forces(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
+    let f_new = split(&contact_forces(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }
@@ -195,5 +199,5 @@ pub fn output_error(rom_outputs: &[f64], fo_outputs: &[f64], n_outputs: usize, h
 /// Per-contact cycle reports (states, dissipated energy) of a reduced solution.
 pub fn reduced_contact_cycles(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64]) -> Result<Vec<ContactCycle>> {
     let w = reduced_contact_displacement(rom, omega, z)?;
-    Ok(contact_forces(rom, plan, &w, true).cycles)
+    Ok(contact_forces(rom, plan, &w, true)?.cycles)
 }
