@@ -248,27 +248,39 @@ impl Model {
     /// # Errors
     /// As [`Model::validate`], for the contacts.
     pub fn validate_contacts(&self) -> Result<()> {
+        for i in 0..self.contacts.len() {
+            self.validate_contact(i)?;
+        }
+        // Shared 'a' DoFs (same kinematics only) and chains (no cycle).
+        contact_coordinates::ContactGroups::new(&self.contacts, self.n_dof())?;
+        Ok(())
+    }
+
+    /// Checks contact `i` on its own (law, DoFs in range, no DoF repeated within a node), in
+    /// `O(1)`: what an incremental addition checks. How contacts combine (shared 'a' DoFs,
+    /// chains) is checked by [`Model::validate_contacts`], once, when a system is built.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the contact and the field.
+    pub fn validate_contact(&self, i: usize) -> Result<()> {
         let n = self.n_dof();
-        for (i, c) in self.contacts.iter().enumerate() {
-            c.validate(i, n)?;
-            for (k, &dof) in c.dofs_a.iter().enumerate() {
-                if c.dofs_a[..k].contains(&dof) {
-                    return Err(JpError::invalid(
-                        format!("contact[{i}].dofs_a"),
-                        format!("DoF {dof} is repeated within the node ({:?}): a node's x, y, z DoFs must differ", c.dofs_a),
-                    ));
-                }
-            }
-            let b = c.dofs_b.as_deref().unwrap_or(&[]);
-            if let Some(k) = (1..b.len()).find(|&k| b[..k].contains(&b[k])) {
+        let c = self.contacts.get(i).ok_or_else(|| JpError::invalid("contact index", format!("{i} >= {} contacts", self.contacts.len())))?;
+        c.validate(i, n)?;
+        for (k, &dof) in c.dofs_a.iter().enumerate() {
+            if c.dofs_a[..k].contains(&dof) {
                 return Err(JpError::invalid(
-                    format!("contact[{i}].dofs_b"),
-                    format!("DoF {} is repeated within the node ({b:?}): a node's x, y, z DoFs must differ", b[k]),
+                    format!("contact[{i}].dofs_a"),
+                    format!("DoF {dof} is repeated within the node ({:?}): a node's x, y, z DoFs must differ", c.dofs_a),
                 ));
             }
         }
-        // Shared 'a' DoFs (same kinematics only) and chains (no cycle).
-        contact_coordinates::ContactGroups::new(&self.contacts, n)?;
+        let b = c.dofs_b.as_deref().unwrap_or(&[]);
+        if let Some(k) = (1..b.len()).find(|&k| b[..k].contains(&b[k])) {
+            return Err(JpError::invalid(
+                format!("contact[{i}].dofs_b"),
+                format!("DoF {} is repeated within the node ({b:?}): a node's x, y, z DoFs must differ", b[k]),
+            ));
+        }
         Ok(())
     }
 
