@@ -792,8 +792,9 @@ jprom_status jprom_model_add_friction_2d(jprom_model *model,
 // * **Errors**: a nonzero return, or a non-finite force or Jacobian entry, ends
 //   `jprom_solve_point` (and a JP prediction) with `JPROM_CALLBACK_ERROR` and the message
 //   "element k: callback returned <code> at sample j", `k` the element's index (the previous
-//   contact count); no NaN reaches a solution. A sweep takes it as a failed continuation step:
-//   it keeps its points up to there and ends stalled, its failure text naming the element.
+//   contact count); no NaN reaches a solution. A sweep (`jprom_sweep`, the ROM sweeps) ends
+//   with the same status and message, writing no result (its progress callback has seen the
+//   frequencies and amplitudes of the points before the failure).
 // * **Stuck stiffness**: the callback is called once here at `w = 0`; its Jacobian there is
 //   the element's linearisation for the stuck limit and the JP modes (a failure here is
 //   `JPROM_CALLBACK_ERROR` and the model is unchanged).

@@ -296,8 +296,9 @@ fn characteristic_displacement(system: &dyn HarmonicSystem, z: &[f64]) -> f64 {
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the first point's solve error (the sweep has no
-/// point then). Later failures end the sweep with a reason ([`SweepResult::end`],
-/// [`SweepResult::failure`]), keeping the points found.
+/// point then); a failed external law ([`JpError::Callback`]) wherever it happens (the points
+/// before it went to `on_point`). Other later failures end the sweep with a reason
+/// ([`SweepResult::end`], [`SweepResult::failure`]), keeping the points found.
 pub fn sweep(
     system: &dyn HarmonicSystem,
     sopts: &SweepOptions,
