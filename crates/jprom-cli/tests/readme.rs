@@ -156,3 +156,32 @@ fn licence_files_and_ignored_output_folders_are_as_the_readme_says() {
         assert!(text.contains(&format!("`{prefix}*`")), "README does not name {prefix}*");
     }
 }
+
+#[test]
+fn status_codes_listed_are_the_headers() {
+    // "Status codes (fixed values): `OK 0, NULL_ARGUMENT 1, ...`" against `JPROM_X = n` in the
+    // header's jprom_status enum: every code, with its value, and no other
+    let text = readme();
+    let start = text.find("Status codes (fixed values): `").expect("status code list") + "Status codes (fixed values): `".len();
+    let list = &text[start..start + text[start..].find('`').unwrap()];
+    let listed: Vec<(String, i64)> = list
+        .split(',')
+        .map(|item| {
+            let mut it = item.split_whitespace();
+            (format!("JPROM_{}", it.next().unwrap()), it.next().unwrap().parse().unwrap())
+        })
+        .collect();
+    let header = std::fs::read_to_string(root().join("include/jprom.h")).unwrap();
+    let end = header.find("} jprom_status;").unwrap();
+    let body = &header[header[..end].rfind("typedef enum {").unwrap()..end];
+    let declared: Vec<(String, i64)> = body
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim();
+            let (name, value) = l.strip_suffix(',')?.split_once(" = ")?;
+            Some((name.to_string(), value.parse().ok()?))
+        })
+        .collect();
+    assert!(declared.len() >= 13, "header enum not found: {declared:?}");
+    assert_eq!(listed, declared, "README status list vs include/jprom.h");
+}
