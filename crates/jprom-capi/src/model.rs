@@ -9,6 +9,7 @@ use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use jprom::contact::{Contact, ContactLaw, ExternalFn, ExternalLaw, IDENTITY_FRAME};
 use jprom::error::Result;
+use jprom::model::contact_coordinates::ContactTopology;
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use faer::Mat;
 use std::ffi::{c_char, c_void};
@@ -21,6 +22,9 @@ use std::sync::Arc;
 pub struct jprom_model {
     magic: u64,
     pub(crate) model: Model,
+    /// How the contacts added so far combine, so that each addition is checked against them
+    /// in O(1) (built from the model's contacts at the first addition).
+    topology: Option<ContactTopology>,
 }
 
 impl Handle for jprom_model {
@@ -36,7 +40,7 @@ impl Handle for jprom_model {
 
 impl jprom_model {
     pub(crate) fn wrap(model: Model) -> *mut jprom_model {
-        handle::into_raw(jprom_model { magic: Self::MAGIC, model })
+        handle::into_raw(jprom_model { magic: Self::MAGIC, model, topology: None })
     }
 }
 
@@ -398,11 +402,21 @@ pub unsafe extern "C" fn jprom_model_excitation_level(model: *const jprom_model,
     })
 }
 
-fn push_contact(model: &mut Model, c: Contact) -> Result<()> {
-    model.contacts.push(c);
-    // the handle's matrices were checked when it was made; only the contacts can be wrong now
-    if let Err(e) = model.validate_contacts() {
-        model.contacts.pop();
+/// Adds a contact after checking it on its own and against the earlier ones (the handle's
+/// matrices were checked when it was made; only the new contact can be wrong now), in O(1).
+fn push_contact(m: &mut jprom_model, c: Contact) -> Result<()> {
+    let i = m.model.contacts.len();
+    m.model.contacts.push(c);
+    let checked = m.model.validate_contact(i).and_then(|()| {
+        let topology = match m.topology.take() {
+            Some(t) => t,
+            None => ContactTopology::new(&m.model.contacts[..i])?,
+        };
+        m.topology = Some(topology);
+        m.topology.as_mut().expect("set above").add(&m.model.contacts, i)
+    });
+    if let Err(e) = checked {
+        m.model.contacts.pop();
         return Err(e);
     }
     Ok(())
@@ -433,7 +447,7 @@ pub unsafe extern "C" fn jprom_model_add_contact_3d(
         let f = slice_arg(frame, 9, "frame")?;
         let frame = [[f[0], f[1], f[2]], [f[3], f[4], f[5]], [f[6], f[7], f[8]]];
         let c = Contact { dofs_a: a.to_vec(), dofs_b: b, frame, law: ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 } };
-        push_contact(&mut m.model, c)?;
+        push_contact(m, c)?;
         Ok(())
     })
 }
@@ -453,7 +467,7 @@ pub unsafe extern "C" fn jprom_model_add_jenkins(
     ffi_guard!({
         let m = handle::get_mut(model, "model")?;
         let b = if dof_b.is_null() { None } else { Some(*dof_b) };
-        push_contact(&mut m.model, Contact::jenkins(dof_a, b, kt, mu, normal_load))?;
+        push_contact(m, Contact::jenkins(dof_a, b, kt, mu, normal_load))?;
         Ok(())
     })
 }
@@ -481,7 +495,7 @@ pub unsafe extern "C" fn jprom_model_add_polynomial_spring(
         let m = handle::get_mut(model, "model")?;
         let b = if dof_b.is_null() { None } else { Some(*dof_b) };
         let c = slice_arg(coefficients, n_coefficients, "coefficients")?.to_vec();
-        push_contact(&mut m.model, Contact::polynomial(dof_a, b, c))?;
+        push_contact(m, Contact::polynomial(dof_a, b, c))?;
         Ok(())
     })
 }
@@ -502,7 +516,7 @@ pub unsafe extern "C" fn jprom_model_add_unilateral_spring(
     ffi_guard!({
         let m = handle::get_mut(model, "model")?;
         let b = if dof_b.is_null() { None } else { Some(*dof_b) };
-        push_contact(&mut m.model, Contact::unilateral(dof_a, b, kn, n0))?;
+        push_contact(m, Contact::unilateral(dof_a, b, kn, n0))?;
         Ok(())
     })
 }
@@ -536,7 +550,7 @@ pub unsafe extern "C" fn jprom_model_add_friction_2d(
             [[f[0], f[1]], [f[2], f[3]]],
             ContactLaw::Friction2D { kt, kn, mu, n0 },
         );
-        push_contact(&mut m.model, c)?;
+        push_contact(m, c)?;
         Ok(())
     })
 }
@@ -640,7 +654,7 @@ pub unsafe extern "C" fn jprom_model_add_element_callback(
         });
         let index = m.model.contacts.len();
         let law = ExternalLaw::labelled(dim, format!("element {index}"), f)?;
-        push_contact(&mut m.model, Contact { dofs_a: a, dofs_b: b, frame: full, law: ContactLaw::External(law) })?;
+        push_contact(m, Contact { dofs_a: a, dofs_b: b, frame: full, law: ContactLaw::External(law) })?;
         Ok(())
     })
 }

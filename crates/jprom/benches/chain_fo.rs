@@ -1,5 +1,6 @@
 //! Full-order cost on a chain of `n` Jenkins-damped masses at H = 5 (issue 18's benchmark):
-//! time to place the `n` contacts one by one (each addition checked as the C API checks it),
+//! time to place the `n` contacts one by one (each addition checked as the C API checks it:
+//! on its own and against the earlier ones, `Model::validate_contact` and `ContactTopology::add`),
 //! time per converged frequency point of the full and the condensed system, the peak resident
 //! memory and the share of system time (allocation churn shows there).
 //!
@@ -17,6 +18,7 @@ use jprom::condensation::CondensedSystem;
 use jprom::contact::Contact;
 use jprom::hbm::full::SPARSE_MIN_UNKNOWNS;
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, Storage};
+use jprom::model::contact_coordinates::ContactTopology;
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use std::time::Instant;
 
@@ -48,9 +50,11 @@ fn chain(n: usize) -> (Model, f64) {
     let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
     let mut model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 0.01 }, exc, Vec::new(), vec![n - 1]).expect("chain");
     let t = Instant::now();
+    let mut topology = ContactTopology::default();
     for i in 0..n {
         model.contacts.push(Contact::jenkins(i, None, 0.5, 0.05, 1.0));
-        model.validate_contacts().expect("contact");
+        model.validate_contact(i).expect("contact");
+        topology.add(&model.contacts, i).expect("topology");
     }
     (model, t.elapsed().as_secs_f64())
 }

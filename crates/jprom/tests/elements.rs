@@ -428,3 +428,42 @@ fn two_dof_duffing_chain_sweeps_over_the_band_at_default_settings() {
     let peak = res.points.iter().map(|p| p.output_amplitude(1, 0)).fold(0.0, f64::max);
     assert!(peak.is_finite() && peak > 0.0);
 }
+
+#[test]
+fn contacts_added_one_by_one_are_checked_against_the_earlier_ones() {
+    use jprom::model::contact_coordinates::{ContactGroups, ContactTopology};
+    // a chain q0 to ground, q1 - q0, ..., q(n-1) - q(n-2), added in order; then a link that
+    // closes it (q0 - q(n-1)) is refused, naming the contact and the cycle
+    let n = 50;
+    let mut contacts: Vec<Contact> = vec![Contact::jenkins(0, None, 1.0, 0.1, 1.0)];
+    contacts.extend((1..n).map(|i| Contact::polynomial(i, Some(i - 1), vec![1.0])));
+    let mut t = ContactTopology::default();
+    for i in 0..contacts.len() {
+        t.add(&contacts, i).unwrap();
+    }
+    assert_eq!(t.len(), n);
+    let batch = ContactGroups::new(&contacts, n).unwrap();
+    assert_eq!(batch.groups.len(), n);
+    assert_eq!(batch.order, (0..n).collect::<Vec<_>>(), "a chain resolves from ground up");
+    // a parallel element on q3 (same kinematics as the q3 - q2 link) joins its block
+    contacts.push(Contact::polynomial(3, Some(2), vec![0.0, 0.0, 2.0]));
+    t.add(&contacts, n).unwrap();
+    // a cycle: q0's 'a' DoF is the start of the chain; an element on (q0 - q(n-1)) would make
+    // q0 depend on the end of the chain that depends on it. Ground Jenkins owns q0 already,
+    // so take a fresh chain without a ground link to see the cycle refused
+    let ring: Vec<Contact> = (0..5).map(|i| Contact::polynomial((i + 1) % 5, Some(i), vec![1.0])).collect();
+    let mut r = ContactTopology::default();
+    for i in 0..4 {
+        r.add(&ring, i).unwrap();
+    }
+    let e = r.add(&ring, 4).unwrap_err().to_string();
+    assert!(e.contains("contact[4]") && e.contains("cycle"), "{e}");
+    assert_eq!(r.len(), 4, "a refused contact is not recorded");
+    // other kinematics on a taken 'a' DoF
+    let clash = vec![Contact::polynomial(1, Some(0), vec![1.0]), Contact::polynomial(1, None, vec![1.0])];
+    let mut c = ContactTopology::default();
+    c.add(&clash, 0).unwrap();
+    let e = c.add(&clash, 1).unwrap_err().to_string();
+    assert!(e.contains("other kinematics"), "{e}");
+    assert!(ContactGroups::new(&ring, 5).is_err() && ContactGroups::new(&clash, 2).is_err());
+}

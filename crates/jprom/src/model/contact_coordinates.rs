@@ -9,6 +9,7 @@
 //! condensation of §5 and the contact rows of the JP bases (§9) simple.
 
 use crate::contact::{Contact, ContactLaw};
+use std::collections::HashMap;
 use crate::error::{JpError, Result};
 use crate::model::Model;
 use faer::Mat;
@@ -236,37 +237,17 @@ impl ContactGroups {
     /// [`JpError::InvalidValue`] naming the contact when an `a` DoF is shared by contacts of
     /// different kinematics, or when `a`/`b` DoFs form a cycle.
     pub fn new(contacts: &[Contact], n_dof: usize) -> Result<Self> {
-        let mut owner = vec![usize::MAX; n_dof]; // block whose 'a' DoF this is
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for (i, c) in contacts.iter().enumerate() {
-            let shared = c.dofs_a.iter().find(|&&d| d < n_dof && owner[d] != usize::MAX).copied();
-            match shared {
-                Some(dof) => {
-                    let g = owner[dof];
-                    let first = groups[g][0];
-                    if !c.same_kinematics(&contacts[first]) {
-                        return Err(JpError::invalid(
-                            format!("contact[{i}].dofs_a"),
-                            format!(
-                                "DoF {dof} is already the 'a' DoF of contact[{first}] with other kinematics; several elements may \
-                                 share an 'a' DoF only with the same dofs_a, dofs_b and frame (they then act in parallel on one \
-                                 coordinate), and a DoF may be the 'b' DoF of any number of elements and the 'a' DoF of a chain \
-                                 link (q1 to ground, q2 - q1)"
-                            ),
-                        ));
-                    }
-                    groups[g].push(i);
-                }
-                None => {
-                    for &d in &c.dofs_a {
-                        if d < n_dof {
-                            owner[d] = groups.len();
-                        }
-                    }
-                    groups.push(vec![i]);
+        let topology = ContactTopology::new(contacts)?;
+        let groups = topology.groups;
+        let owner: Vec<usize> = {
+            let mut o = vec![usize::MAX; n_dof];
+            for (&d, &g) in &topology.owner {
+                if d < n_dof {
+                    o[d] = g;
                 }
             }
-        }
+            o
+        };
         // Dependency order (Kahn): block g needs the blocks owning its 'b' DoFs.
         let ng = groups.len();
         let deps: Vec<Vec<usize>> = groups
@@ -306,5 +287,108 @@ impl ContactGroups {
             }
         }
         Ok(ContactGroups { groups, order })
+    }
+}
+
+/// The grouping of [`ContactGroups`] kept up to date one contact at a time, for callers that
+/// add contacts one by one (the C API): an addition is checked against the contacts before it
+/// in `O(1)` when its 'a' DoFs are no earlier contact's 'b' DoFs (a contact on DoFs of its own,
+/// a parallel element, the next link at the end of a chain); otherwise in the size of the
+/// chain it closes, to refuse a cycle.
+#[derive(Clone, Debug, Default)]
+pub struct ContactTopology {
+    /// Block whose 'a' DoF each DoF is.
+    owner: HashMap<usize, usize>,
+    /// The contacts of each block.
+    groups: Vec<Vec<usize>>,
+    /// For each DoF, the blocks that have it as a 'b' DoF.
+    users: HashMap<usize, Vec<usize>>,
+}
+
+impl ContactTopology {
+    /// The topology of `contacts`, checked contact by contact.
+    ///
+    /// # Errors
+    /// As [`ContactTopology::add`].
+    pub fn new(contacts: &[Contact]) -> Result<Self> {
+        let mut t = ContactTopology::default();
+        for i in 0..contacts.len() {
+            t.add(contacts, i)?;
+        }
+        Ok(t)
+    }
+
+    /// Number of contacts recorded.
+    pub fn len(&self) -> usize {
+        self.groups.iter().map(Vec::len).sum()
+    }
+
+    /// Whether no contact is recorded.
+    pub fn is_empty(&self) -> bool {
+        self.groups.is_empty()
+    }
+
+    /// Checks `contacts[i]` against `contacts[..i]` (recorded before) and records it; on an
+    /// error nothing is recorded.
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] naming the contact when one of its 'a' DoFs is the 'a' DoF of an
+    /// earlier contact with other kinematics, or when it closes a cycle of 'a'/'b' DoFs.
+    pub fn add(&mut self, contacts: &[Contact], i: usize) -> Result<()> {
+        let c = &contacts[i];
+        if let Some(&dof) = c.dofs_a.iter().find(|d| self.owner.contains_key(d)) {
+            let g = self.owner[&dof];
+            let first = self.groups[g][0];
+            if !c.same_kinematics(&contacts[first]) {
+                return Err(JpError::invalid(
+                    format!("contact[{i}].dofs_a"),
+                    format!(
+                        "DoF {dof} is already the 'a' DoF of contact[{first}] with other kinematics; several elements may \
+                         share an 'a' DoF only with the same dofs_a, dofs_b and frame (they then act in parallel on one \
+                         coordinate), and a DoF may be the 'b' DoF of any number of elements and the 'a' DoF of a chain \
+                         link (q1 to ground, q2 - q1)"
+                    ),
+                ));
+            }
+            // same kinematics: the block's dependencies are unchanged
+            self.groups[g].push(i);
+            return Ok(());
+        }
+        let b = c.dofs_b.as_deref().unwrap_or(&[]);
+        // blocks that will depend on the new one: those with one of its 'a' DoFs as a 'b' DoF
+        let dependants: Vec<usize> = c.dofs_a.iter().filter_map(|d| self.users.get(d)).flatten().copied().collect();
+        if !dependants.is_empty() {
+            // a cycle closes if the new block depends (through the blocks owning its 'b' DoFs,
+            // transitively) on one of them
+            let mut seen = std::collections::HashSet::new();
+            let mut stack: Vec<usize> = b.iter().filter_map(|d| self.owner.get(d)).copied().collect();
+            while let Some(h) = stack.pop() {
+                if dependants.contains(&h) {
+                    let on: Vec<usize> = b.iter().filter_map(|d| self.owner.get(d)).map(|&h| self.groups[h][0]).collect();
+                    return Err(JpError::invalid(
+                        format!("contact[{i}].dofs_b"),
+                        format!(
+                            "the 'a'/'b' DoFs of the contacts form a cycle (contact[{i}]'s 'b' DoFs are 'a' DoFs of contact(s) \
+                             {on:?}, which depend back on it): a chain of elements must end at ground or at a DoF that is no \
+                             element's 'a' DoF"
+                        ),
+                    ));
+                }
+                if !seen.insert(h) {
+                    continue;
+                }
+                let hb = contacts[self.groups[h][0]].dofs_b.as_deref().unwrap_or(&[]);
+                stack.extend(hb.iter().filter_map(|d| self.owner.get(d)).copied());
+            }
+        }
+        let g = self.groups.len();
+        for &d in &c.dofs_a {
+            self.owner.insert(d, g);
+        }
+        for &d in b {
+            self.users.entry(d).or_default().push(g);
+        }
+        self.groups.push(vec![i]);
+        Ok(())
     }
 }
