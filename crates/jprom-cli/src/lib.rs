@@ -1,5 +1,5 @@
 //! The `jprom` program's library: study files ([`study`]), running a study and writing its
-//! CSV, JSON and tables ([`run`]), the natural modes of its model ([`modes`]), plots ([`plots`]). The numerics are the `jprom` crate's.
+//! CSV, JSON and tables ([`run`]) as independent work units ([`units`]), the natural modes of its model ([`modes`]), plots ([`plots`]). The numerics are the `jprom` crate's.
 pub mod check;
 pub mod locate;
 pub mod modes;
@@ -7,3 +7,4 @@ pub mod plots;
 pub mod progress;
 pub mod run;
 pub mod study;
+pub mod units;
