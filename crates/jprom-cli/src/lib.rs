@@ -2,6 +2,8 @@
 //! CSV, JSON and tables ([`run`]) as independent work units ([`units`]), the natural modes of its model ([`modes`]), plots ([`plots`]). The numerics are the `jprom` crate's.
 pub mod check;
 pub mod locate;
+#[cfg(feature = "mpi")]
+pub mod mpi_run;
 pub mod modes;
 pub mod plots;
 pub mod progress;

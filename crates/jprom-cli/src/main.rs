@@ -31,7 +31,9 @@
 use jprom_cli::check::check_study_file;
 use jprom_cli::modes::{modes_report, modes_table};
 use jprom_cli::progress::Progress;
-use jprom_cli::run::{run_study_jobs, summary_table};
+#[cfg(not(feature = "mpi"))]
+use jprom_cli::run::run_study_jobs;
+use jprom_cli::run::summary_table;
 use jprom_cli::study::Study;
 use std::io::Write;
 use std::path::PathBuf;
@@ -297,10 +299,22 @@ fn main() -> ExitCode {
     }
 }
 
-/// Runs the study in `jobs` threads.
+/// Runs the study in `jobs` threads; built with the `mpi` feature, on every rank of
+/// `MPI_COMM_WORLD` (`mpirun -np N jprom run STUDY`), rank 0 printing the summary.
 fn run(study: &Study, dir: &std::path::Path, keep_partial: bool, progress: Progress, jobs: usize) -> Result<(), Failure> {
     let t = std::time::Instant::now();
+    #[cfg(not(feature = "mpi"))]
     let summary = run_study_jobs(study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))?;
+    #[cfg(feature = "mpi")]
+    let (summary, _mpi) = {
+        // MPI_Finalize when `_mpi` drops, after the summary is out
+        let mpi = jprom_cli::mpi_run::Mpi::init().ok_or_else(|| Failure::Run("MPI could not be initialised with MPI_THREAD_FUNNELED".into()))?;
+        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))? {
+            Some(summary) => (summary, mpi),
+            // ranks other than 0: rank 0 reports
+            None => return Ok(()),
+        }
+    };
     print_out(&format!("{}results in {} ({:.1} s)\n", summary_table(&summary), dir.display(), t.elapsed().as_secs_f64()))?;
     if summary.incomplete.is_empty() || keep_partial || study.output.keep_partial {
         Ok(())
