@@ -10,8 +10,9 @@
  * prints the table in level order; with one rank the table is the same, byte for byte (each
  * sweep is deterministic and runs on its own handles).
  *
- * jprom keeps no global state beyond the documented thread-local error message, so each rank
- * (and each thread of a rank) may call it with its own handles.
+ * Outside its handles jprom keeps only the thread-local error message, the process-wide memory
+ * budget (jprom_set_memory_budget) and the live-handle count, so each rank (a process of its
+ * own), and each thread of a rank, may call it with its own handles.
  *
  * Build and run (from the repository root, after `cargo build --lib`; mpicc from OpenMPI or
  * MPICH):
