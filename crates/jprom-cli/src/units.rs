@@ -13,7 +13,8 @@
 //!
 //! A unit that fails (an error outside its sweeps, or a panic) becomes one failed row of the
 //! table naming the unit and why ([`crate::run::UnitOutput::failed`]); the other units' results
-//! are kept and `jprom run` exits with status 3 (a failed or incomplete sweep).
+//! are kept and `jprom run` exits with status 3, as for a failed or incomplete sweep (which
+//! `--keep-partial` or `output.keep_partial` accepts, failed units included).
 //!
 //! `JPROM_FAIL_UNIT=K` (a test hook) makes unit `K` (0-based, in the order above) fail with an
 //! error, `JPROM_FAIL_UNIT=K:panic` makes it panic.
