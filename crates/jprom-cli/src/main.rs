@@ -3,6 +3,7 @@
 //! ```text
 //! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
 //! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
+//!             [--jobs N]           N units (a solver at a level) at once, in threads
 //! jprom check STUDY                validate a study file and every file and node it names
 //! jprom modes STUDY [--count N]    natural frequencies: FE model, CB model free and stuck
 //! jprom --version                  jprom <version>
@@ -30,17 +31,20 @@
 use jprom_cli::check::check_study_file;
 use jprom_cli::modes::{modes_report, modes_table};
 use jprom_cli::progress::Progress;
-use jprom_cli::run::{run_study_with, summary_table};
+#[cfg(not(feature = "mpi"))]
+use jprom_cli::run::run_study_jobs;
+use jprom_cli::run::summary_table;
 use jprom_cli::study::Study;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  jprom demo  [--out DIR] [--keep-partial] [--quiet]
+  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--quiet]
                                  run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
-  jprom run   STUDY [--out DIR] [--keep-partial] [--quiet]
-                                 run a study file (.toml or .json)
+  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--quiet]
+                                 run a study file (.toml or .json); --jobs N runs N units
+                                 (a solver at a level) at once in threads, same results
   jprom check STUDY              validate a study file and the files and nodes it names
                                  (without reading the matrices), print it with its defaults
   jprom modes STUDY [--count N] [--quiet]
@@ -67,21 +71,22 @@ struct Command {
 const QUIET: (&str, bool, &str) = ("--quiet", false, "no progress on standard error (bars on a terminal, plain lines otherwise)");
 const KEEP_PARTIAL: (&str, bool, &str) = ("--keep-partial", false, "exit 0 when a sweep did not cover its band (exit 3 otherwise; results are kept either way)");
 const HELP: (&str, bool, &str) = ("--help, -h", false, "this text");
+const JOBS: (&str, bool, &str) = ("--jobs", true, "N: run N units (a solver at a level) at once, in threads (default 1); the results do not depend on N");
 
 const COMMANDS: [Command; 4] = [
     Command {
         name: "demo",
-        synopsis: "jprom demo [--out DIR] [--keep-partial] [--quiet]",
+        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--quiet]",
         about: "Runs the built-in shrouded-blade demo (crates/jprom-cli/demo_study.toml): full order, FR and\nNLR sweeps at each level, error predictor, summary table, CSV, JSON and SVG plots.",
         takes_study: false,
-        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), KEEP_PARTIAL, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, QUIET, HELP],
     },
     Command {
         name: "run",
-        synopsis: "jprom run STUDY [--out DIR] [--keep-partial] [--quiet]",
+        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--quiet]",
         about: "Runs a study file (TOML or JSON): model, Craig-Bampton, sweeps, bases, CSV, JSON and SVG.",
         takes_study: true,
-        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), KEEP_PARTIAL, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, QUIET, HELP],
     },
     Command {
         name: "check",
@@ -202,6 +207,17 @@ enum Failure {
     Incomplete(Vec<String>),
 }
 
+/// `--jobs N` (default 1), a positive integer.
+fn jobs_arg(args: &Parsed) -> Result<usize, Failure> {
+    match args.value("--jobs") {
+        Some(v) => match v.parse::<usize>() {
+            Ok(n) if n > 0 => Ok(n),
+            _ => Err(Failure::Usage("--jobs needs a positive integer".to_string())),
+        },
+        None => Ok(1),
+    }
+}
+
 /// `--count N` (default 10), a positive integer.
 fn count_arg(args: &Parsed) -> Result<usize, Failure> {
     match args.value("--count") {
@@ -240,16 +256,17 @@ fn main() -> ExitCode {
             let progress = Progress::for_stderr(p.flag("--quiet"));
             let keep_partial = p.flag("--keep-partial");
             let out = p.value("--out").map(PathBuf::from);
+            let jobs = jobs_arg(&p)?;
             match (cmd.name, p.study.as_deref()) {
                 ("demo", _) => {
                     let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
-                    run(&study, &out.unwrap_or_else(|| PathBuf::from("jprom-demo")), keep_partial, progress)
+                    run(&study, &out.unwrap_or_else(|| PathBuf::from("jprom-demo")), keep_partial, progress, jobs)
                 }
                 ("run", Some(path)) => study_from(path).and_then(|study| {
                     // every file and node the study names, checked before the long reads (errors with their line)
                     // (a file that is missing or malformed fails the run, status 1, as the full read would)
                     check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Run(e.to_string()))?;
-                    run(&study, &out.unwrap_or_else(|| study.output.dir.clone()), keep_partial, progress)
+                    run(&study, &out.unwrap_or_else(|| study.output.dir.clone()), keep_partial, progress, jobs)
                 }),
                 ("check", Some(path)) => check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string())).and_then(|text| print_out(&text)),
                 ("modes", Some(path)) => count_arg(&p).and_then(|count| {
@@ -282,9 +299,22 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(study: &Study, dir: &std::path::Path, keep_partial: bool, progress: Progress) -> Result<(), Failure> {
+/// Runs the study in `jobs` threads; built with the `mpi` feature, on every rank of
+/// `MPI_COMM_WORLD` (`mpirun -np N jprom run STUDY`), rank 0 printing the summary.
+fn run(study: &Study, dir: &std::path::Path, keep_partial: bool, progress: Progress, jobs: usize) -> Result<(), Failure> {
     let t = std::time::Instant::now();
-    let summary = run_study_with(study, dir, progress).map_err(|e| Failure::Run(e.to_string()))?;
+    #[cfg(not(feature = "mpi"))]
+    let summary = run_study_jobs(study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))?;
+    #[cfg(feature = "mpi")]
+    let (summary, _mpi) = {
+        // MPI_Finalize when `_mpi` drops, after the summary is out
+        let mpi = jprom_cli::mpi_run::Mpi::init().ok_or_else(|| Failure::Run("MPI could not be initialised with MPI_THREAD_FUNNELED".into()))?;
+        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))? {
+            Some(summary) => (summary, mpi),
+            // ranks other than 0: rank 0 reports
+            None => return Ok(()),
+        }
+    };
     print_out(&format!("{}results in {} ({:.1} s)\n", summary_table(&summary), dir.display(), t.elapsed().as_secs_f64()))?;
     if summary.incomplete.is_empty() || keep_partial || study.output.keep_partial {
         Ok(())

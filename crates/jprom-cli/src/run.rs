@@ -24,7 +24,8 @@ use jprom::jp::prediction::PredictionOptions;
 use jprom::jp::predict_basis;
 use jprom::model::{ContactCoordinates, Damping, Model};
 use jprom::rom::{adaptive_sweep_with_progress, reduced_model, AdaptiveOptions, RomKind};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use super::units::{run_units_threads, study_units, Unit, UnitKind};
 use std::io::Write;
 use std::ops::ControlFlow;
 use std::path::Path;
@@ -33,7 +34,7 @@ use std::time::Instant;
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
 /// One solver at one excitation level.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SolverRow {
     pub level: f64,
     pub solver: String,
@@ -79,7 +80,7 @@ pub struct SolverRow {
 
 /// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
 /// full-order resonance.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BasisStudyRow {
     pub level: f64,
     pub solver: String,
@@ -307,6 +308,11 @@ pub fn reduce_fe_model(study: &Study, read: &FeStudyModel, progress: Progress) -
 
 /// The row of a solver that failed before giving a sweep (its error in the warnings).
 fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> SolverRow {
+    failed_row_because(level, solver, sizes, &e.to_string())
+}
+
+/// The row of a solver that failed, `why` in its end reason and warnings (`failed: {why}`).
+fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) -> SolverRow {
     SolverRow {
         level,
         solver: solver.into(),
@@ -324,9 +330,9 @@ fn failed_row(level: f64, solver: &str, sizes: Vec<usize>, e: &JpError) -> Solve
         actual_e1: None,
         energy_error: None,
         end: "failed".into(),
-        end_reason: format!("failed: {e}"),
+        end_reason: format!("failed: {why}"),
         complete: false,
-        warnings: vec![format!("failed: {e}")],
+        warnings: vec![format!("failed: {why}")],
         worst_error: None,
     }
 }
@@ -404,8 +410,12 @@ fn harmonics_of(p: &PointSolution) -> usize {
     p.outputs.len().checked_div(p.n_outputs).map_or(0, |k| k.saturating_sub(1) / 2)
 }
 
-fn write_csv(path: &Path, res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)) -> Result<()> {
-    jprom::io::write_file(path, |f| write_csv_rows(f, res, errors, units))
+/// A sweep's CSV ([`write_csv_rows`]) in memory: a unit's files are written when the units are
+/// merged ([`crate::units`]), in unit order, by the process that writes the summary.
+fn csv_bytes(res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    write_csv_rows(&mut buf, res, errors, units).map_err(|e| JpError::Io { path: "(csv in memory)".into(), reason: e.to_string() })?;
+    Ok(buf)
 }
 
 /// One row per sweep point: `freq_hz`, then per output `j` the static term `x0_out{j}` (signed)
@@ -633,10 +643,10 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         return Ok(None);
     }
     let secs = t.elapsed().as_secs_f64();
-    write_csv(&run.out_dir.join(format!("{tag}_fo.csv")), &res, None, units(run.study))?;
+    c.files.push((format!("{tag}_fo.csv"), csv_bytes(&res, None, units(run.study))?));
     let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
-    series.frf.push(Series::solver("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-    series.energies.push(Series::solver("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
+    series.frf.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.energies.push(SolverSeries::new("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
     let warnings = sweep_warnings(&res, &p, run.band);
     let edge = peak_on_edge(&res, &p, run.band).map(|edge| {
         format!("the full-order peak is on {edge} ({:.3} Hz): the errors \"at resonance\" are taken there, not at a resonance", p.omega / TWO_PI)
@@ -732,10 +742,10 @@ fn reduced_level(
     let rom = reduced_model(kind, coords, Some(condensed), basis)?;
     let res = &adaptive.sweep;
     let errors = &adaptive.predicted_errors;
-    write_csv(&run.out_dir.join(format!("{tag}_{}.csv", name.to_lowercase())), res, Some(errors), units(run.study))?;
+    c.files.push((format!("{tag}_{}.csv", name.to_lowercase()), csv_bytes(res, Some(errors), units(run.study))?));
     let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
-    series.frf.push(Series::solver(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-    series.e_stars.push(Series::solver(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
+    series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.e_stars.push(SolverSeries::new(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
     let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
     let mut warnings = sweep_warnings(res, p, run.band);
     if adaptive.worst_error > aopts.threshold {
@@ -790,7 +800,7 @@ fn reduced_level(
         let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
         c.energies_at_peak.push((c.rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
         row.warnings.extend(fo_warning.iter().chain(fo_edge.iter()).cloned());
-        series.energies.push(Series::solver(rom_label.clone(), cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
+        series.energies.push(SolverSeries::new(rom_label.clone(), cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
         if let (Some(ps), Some(a)) = (row.predicted_e1, row.actual_e1) {
             let label = name.to_string();
             match c.err_points.iter_mut().find(|(l, _)| *l == label) {
@@ -803,10 +813,9 @@ fn reduced_level(
     Ok(())
 }
 
-/// The settings every level of a run uses.
+/// The settings every unit of a run uses.
 struct Run<'a> {
     study: &'a Study,
-    out_dir: &'a Path,
     progress: Progress,
     hopts: HbmOptions,
     /// The band (rad/s).
@@ -816,25 +825,48 @@ struct Run<'a> {
     popts: PredictionOptions,
 }
 
-/// What the levels add up to: the table's rows, each full-order peak's energies per contact
-/// (with each ROM's there, for the energy errors), the (actual, predicted) error pairs per ROM.
+/// What one unit adds to the study: its table rows, its full-order peak's energies per contact
+/// (with each ROM's there, for the energy errors; indices into `rows`), the (actual, predicted)
+/// error pairs per ROM, its CSV files (name in the output folder, contents).
 #[derive(Default)]
 struct Collected {
     rows: Vec<SolverRow>,
     energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)>,
     err_points: Vec<(String, Vec<(f64, f64)>)>,
+    files: Vec<(String, Vec<u8>)>,
 }
 
-/// One level's curves for the plots: response, energies at the peak, `e*_1` along each ROM sweep.
+/// One unit's curves for its level's plots: response, energies at the peak, `e*_1` along each
+/// ROM sweep.
 #[derive(Default)]
 struct LevelSeries {
-    frf: Vec<Series>,
-    energies: Vec<Series>,
-    e_stars: Vec<Series>,
+    frf: Vec<SolverSeries>,
+    energies: Vec<SolverSeries>,
+    e_stars: Vec<SolverSeries>,
 }
 
-/// A level's full-order peak and what the ROM rows must say about it.
-struct FoPeak {
+/// A solver's curve as a unit returns it ([`Series::solver`]'s arguments: label, points, line);
+/// plain data, so that a unit computed in another process sends it back.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SolverSeries {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub line: bool,
+}
+
+impl SolverSeries {
+    fn new(label: impl Into<String>, points: Vec<(f64, f64)>, line: bool) -> Self {
+        SolverSeries { label: label.into(), points, line }
+    }
+    fn series(self) -> Series {
+        Series::solver(self.label, self.points, self.line)
+    }
+}
+
+/// A level's full-order peak and what the ROM rows must say about it (a full-order unit's
+/// result that the level's ROM and gamma-study units take).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FoPeak {
     point: PointSolution,
     /// The full-order sweep did not cover the band.
     warning: Option<String>,
@@ -842,32 +874,43 @@ struct FoPeak {
     edge: Option<String>,
 }
 
-/// [`run_study`] showing its stages on `progress`: the model, the stuck mode and the level
-/// reference once, then at each level the full-order sweep ([`full_order_level`]), each
-/// reduced model's self-correcting sweep ([`reduced_level`]) and the gamma study; then the
-/// energy errors, `summary.json`, the plots and `basis_study.csv`.
+/// What every unit of a study shares, built once (by rank 0 under MPI, which sends it to the
+/// others): the reduced (Craig-Bampton) model and the level reference, with what the summary
+/// says about them.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Shared {
+    /// The model at unit dynamic scale (each level sets its own).
+    pub model: Model,
+    /// The model's `excitation.dynamic_scale` at each of the study's levels.
+    pub scales: Vec<f64>,
+    pub omega_st: f64,
+    pub stuck_mode_in_band: bool,
+    pub alpha_st: Option<f64>,
+    pub stuck_limit_force: f64,
+    pub level_reference: String,
+    pub warnings: Vec<String>,
+    pub build_seconds: f64,
+}
+
+/// Builds what every unit shares ([`Shared`]): the model ([`build_model_with`]), the stuck mode
+/// for the band and the level reference, showing the stages on `progress`.
 ///
 /// # Errors
-/// The model's errors, a file that cannot be written; a sweep that fails is a row of the table.
-pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Result<RunSummary> {
-    std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
+/// The model's errors; a level the reference cannot scale to.
+pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
     let h = study.hbm.harmonics;
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
-    let mut model = build_model_with(study, progress)?;
+    let model = build_model_with(study, progress)?;
     let step = progress.step("stuck mode and level reference");
     let coords = ContactCoordinates::new(&model, h)?;
-    let mut popts = PredictionOptions::new(band);
-    popts.gamma = study.basis.gamma;
-    popts.n_samples = study.basis.samples;
-    popts.modes.extra_outside = study.basis.extra_modes;
     let omega_st = jprom::jp::prediction::stuck_mode(&coords, band)?.0;
     let plan = AftPlan::new(h, study.hbm.nt)?;
     let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
     // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
     let limit = stuck_limit(&coords, &static_z, omega_st)?;
     step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
-    let mut study_warnings = Vec::new();
+    let mut warnings = Vec::new();
     let stuck_mode_in_band = super::modes::in_band(omega_st / TWO_PI, (study.band.hz_start, study.band.hz_end));
     if !stuck_mode_in_band {
         // the cheap test failed: all stuck modes (dense, this path only) to say where they are
@@ -876,47 +919,192 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
             Ok(stuck) => super::modes::band_warning(&stuck, band_hz, omega_st / TWO_PI),
             Err(e) => Some(super::modes::band_warning_without_modes(band_hz, omega_st / TWO_PI, &e)),
         };
-        study_warnings.extend(warning);
+        warnings.extend(warning);
     }
-    let build_seconds = t.elapsed().as_secs_f64();
-    // about `points` points where the response is smooth, more at resonances and folds
-    let sopts = study.band.sweep_options();
-    sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
-    let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
-    let run = Run { study, out_dir, progress, hopts, band, sopts, plan, popts };
-    let kinds: Vec<(&str, RomKind)> =
-        [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)].into_iter().filter(|k| k.2).map(|k| (k.0, k.1)).collect();
+    let scales = study.forcing.levels.iter().map(|&level| limit.scale_at(level)).collect::<Result<Vec<f64>>>()?;
+    Ok(Shared {
+        model,
+        scales,
+        omega_st,
+        stuck_mode_in_band,
+        alpha_st: limit.alpha,
+        stuck_limit_force: limit.force,
+        level_reference: limit.describe(),
+        warnings,
+        build_seconds: t.elapsed().as_secs_f64(),
+    })
+}
 
+/// The ROMs a study asks for, in table order.
+fn rom_kinds(study: &Study) -> Vec<(&'static str, RomKind)> {
+    [("FR", RomKind::Fr, study.solvers.fr), ("NLR", RomKind::Nlr, study.solvers.nlr)].into_iter().filter(|k| k.2).map(|k| (k.0, k.1)).collect()
+}
+
+/// A level's systems, built by the first unit of the level that a process runs and shared by
+/// its others (as the serial loop built them once per level).
+struct LevelSystems {
+    model: Model,
+    coords: ContactCoordinates,
+    condensed: CondensedSystem,
+}
+
+/// Runs units of a study from its [`Shared`] inputs ([`UnitRunner::run`]); one per process,
+/// shared by its threads.
+pub struct UnitRunner<'a> {
+    run: Run<'a>,
+    shared: &'a Shared,
+    kinds: Vec<(&'static str, RomKind)>,
+    levels: Vec<std::sync::OnceLock<Result<LevelSystems>>>,
+}
+
+impl<'a> UnitRunner<'a> {
+    /// The runner of `study`'s units; `progress` shows each unit's sweeps.
+    ///
+    /// # Errors
+    /// The study's sweep settings or AFT plan are invalid.
+    pub fn new(study: &'a Study, shared: &'a Shared, progress: Progress) -> Result<Self> {
+        let h = study.hbm.harmonics;
+        let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
+        let mut popts = PredictionOptions::new(band);
+        popts.gamma = study.basis.gamma;
+        popts.n_samples = study.basis.samples;
+        popts.modes.extra_outside = study.basis.extra_modes;
+        let plan = AftPlan::new(h, study.hbm.nt)?;
+        // about `points` points where the response is smooth, more at resonances and folds
+        let sopts = study.band.sweep_options();
+        sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
+        let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
+        let run = Run { study, progress, hopts, band, sopts, plan, popts };
+        let levels = study.forcing.levels.iter().map(|_| std::sync::OnceLock::new()).collect();
+        Ok(UnitRunner { run, shared, kinds: rom_kinds(study), levels })
+    }
+
+    /// The level's model (at its excitation level), contact coordinates and condensed system.
+    fn level(&self, i: usize) -> Result<&LevelSystems> {
+        self.levels[i]
+            .get_or_init(|| {
+                let mut model = self.shared.model.clone();
+                model.excitation.dynamic_scale = self.shared.scales[i];
+                // the transformed forces carry the excitation level: built for this level
+                let coords = ContactCoordinates::new(&model, self.run.study.hbm.harmonics)?;
+                let condensed = CondensedSystem::new(&model, &self.run.hopts)?;
+                Ok(LevelSystems { model, coords, condensed })
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// Runs one unit; `fo` is the full-order peak of its level (ROM and gamma-study units, when
+    /// the study has a full-order solver and its sweep found a point).
+    ///
+    /// # Errors
+    /// The level's systems cannot be built, or a step of the unit that is not a sweep failed
+    /// (a sweep that fails is a row of the unit's output, as in a serial run).
+    pub fn run(&self, unit: &Unit, fo: Option<&FoPeak>) -> Result<UnitOutput> {
+        let level = unit.level;
+        let tag = format!("alpha_ST_x{level:e}");
+        let sys = self.level(unit.level_index)?;
+        let mut c = Collected::default();
+        let mut series = LevelSeries::default();
+        let mut out = UnitOutput::default();
+        match unit.kind {
+            UnitKind::FullOrder => out.fo_peak = full_order_level(&self.run, level, &tag, &sys.condensed, &mut c, &mut series)?,
+            UnitKind::Fr | UnitKind::Nlr => {
+                let kind = if unit.kind == UnitKind::Fr { ("FR", RomKind::Fr) } else { ("NLR", RomKind::Nlr) };
+                reduced_level(&self.run, level, &tag, kind, &sys.model, &sys.coords, &sys.condensed, fo, &mut c, &mut series)?;
+            }
+            UnitKind::GammaStudy => {
+                if let Some(fo) = fo {
+                    let bar = self.run.progress.step(format!("gamma study, level {level:e}"));
+                    let t = Instant::now();
+                    out.basis_study = gamma_study(self.run.study, &sys.coords, &sys.condensed, &self.run.popts, &self.run.hopts, &self.run.plan, &fo.point, level, &self.kinds)?;
+                    out.basis_study_seconds = t.elapsed().as_secs_f64();
+                    bar.done();
+                }
+            }
+        }
+        out.rows = c.rows;
+        out.energies_at_peak = c.energies_at_peak;
+        out.err_points = c.err_points;
+        out.files = c.files;
+        out.frf = series.frf;
+        out.energies = series.energies;
+        out.e_stars = series.e_stars;
+        Ok(out)
+    }
+}
+
+/// What a unit produced, merged by [`merge_units`] in unit order. Plain data: under MPI it
+/// travels from the rank that ran the unit to rank 0.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct UnitOutput {
+    pub rows: Vec<SolverRow>,
+    /// The full-order peak's energies per contact and each ROM's there (index into `rows`).
+    pub energies_at_peak: Vec<(usize, Vec<f64>, Vec<f64>)>,
+    /// (actual, predicted) error pairs per ROM.
+    pub err_points: Vec<(String, Vec<(f64, f64)>)>,
+    /// Files for the output folder: name, contents.
+    pub files: Vec<(String, Vec<u8>)>,
+    pub frf: Vec<SolverSeries>,
+    pub energies: Vec<SolverSeries>,
+    pub e_stars: Vec<SolverSeries>,
+    pub basis_study: Vec<BasisStudyRow>,
+    pub basis_study_seconds: f64,
+    /// A full-order unit's peak, which its level's other units take.
+    pub fo_peak: Option<FoPeak>,
+}
+
+impl UnitOutput {
+    /// The output of a unit that failed: one row saying which unit failed and why.
+    pub fn failed(unit: &Unit, index: usize, reason: &str) -> Self {
+        let why = format!("unit {index} ({}): {reason}", unit.describe());
+        UnitOutput { rows: vec![failed_row_because(unit.level, unit.kind.solver(), Vec::new(), &why)], ..UnitOutput::default() }
+    }
+}
+
+/// Merges the units' outputs (in unit order, whatever order they finished in) into the study's
+/// summary, and writes the CSVs, `summary.json`, the plots and `basis_study.csv` into `out_dir`.
+///
+/// # Errors
+/// A file that cannot be written.
+pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: &[Unit], outputs: Vec<UnitOutput>) -> Result<RunSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
+    let kinds = rom_kinds(study);
     let mut c = Collected::default();
     let (mut frf_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new());
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
     let mut basis_study_seconds = 0.0;
-    for &level in &study.forcing.levels {
-        model.excitation.dynamic_scale = limit.scale_at(level)?;
-        let tag = format!("alpha_ST_x{level:e}");
-        // the transformed forces carry the excitation level: rebuild them for this level
-        let coords = ContactCoordinates::new(&model, h)?;
-        let condensed = CondensedSystem::new(&model, &run.hopts)?;
+    let mut outputs = outputs.into_iter().zip(study_units).peekable();
+    for (i, &level) in study.forcing.levels.iter().enumerate() {
         let mut series = LevelSeries::default();
-        let fo_peak = if study.solvers.full_order { full_order_level(&run, level, &tag, &condensed, &mut c, &mut series)? } else { None };
-        for &kind in &kinds {
-            reduced_level(&run, level, &tag, kind, &model, &coords, &condensed, fo_peak.as_ref(), &mut c, &mut series)?;
+        while let Some((out, _)) = outputs.next_if(|(_, u)| u.level_index == i) {
+            for (name, bytes) in &out.files {
+                jprom::io::write_file(&out_dir.join(name), |f| f.write_all(bytes))?;
+            }
+            let base = c.rows.len();
+            c.energies_at_peak.extend(out.energies_at_peak.into_iter().map(|(k, a, b)| (base + k, a, b)));
+            c.rows.extend(out.rows);
+            for (label, pts) in out.err_points {
+                match c.err_points.iter_mut().find(|(l, _)| *l == label) {
+                    Some((_, v)) => v.extend(pts),
+                    None => c.err_points.push((label, pts)),
+                }
+            }
+            series.frf.extend(out.frf);
+            series.energies.extend(out.energies);
+            series.e_stars.extend(out.e_stars);
+            basis_study.extend(out.basis_study);
+            basis_study_seconds += out.basis_study_seconds;
         }
-        if let (Some(fo), false, false) = (&fo_peak, kinds.is_empty(), study.basis.gamma_study.is_empty()) {
-            let bar = progress.step(format!("gamma study, level {level:e}"));
-            let t = Instant::now();
-            basis_study.extend(gamma_study(study, &coords, &condensed, &run.popts, &run.hopts, &run.plan, &fo.point, level, &kinds)?);
-            basis_study_seconds += t.elapsed().as_secs_f64();
-            bar.done();
-        }
-        frf_series.push((level, series.frf));
-        energy_series.push((level, series.energies));
+        let plot = |v: Vec<SolverSeries>| v.into_iter().map(SolverSeries::series).collect::<Vec<Series>>();
+        frf_series.push((level, plot(series.frf)));
+        energy_series.push((level, plot(series.energies)));
         if !kinds.is_empty() {
-            e_star_series.push((level, series.e_stars));
+            e_star_series.push((level, plot(series.e_stars)));
         }
     }
 
-    let Collected { mut rows, energies_at_peak, err_points } = c;
+    let Collected { mut rows, energies_at_peak, err_points, .. } = c;
     energy_errors(&mut rows, &energies_at_peak);
     let incomplete = rows
         .iter()
@@ -924,16 +1112,16 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         .map(|r| format!("{} at level {:e}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone())))
         .collect();
     let summary = RunSummary {
-        model_dofs: model.n_dof(),
-        contacts: model.contacts.len(),
-        stuck_resonance_hz: omega_st / TWO_PI,
-        stuck_mode_in_band,
-        alpha_st: limit.alpha,
-        stuck_limit_force: limit.force,
-        level_reference: limit.describe(),
+        model_dofs: shared.model.n_dof(),
+        contacts: shared.model.contacts.len(),
+        stuck_resonance_hz: shared.omega_st / TWO_PI,
+        stuck_mode_in_band: shared.stuck_mode_in_band,
+        alpha_st: shared.alpha_st,
+        stuck_limit_force: shared.stuck_limit_force,
+        level_reference: shared.level_reference.clone(),
         incomplete,
-        warnings: study_warnings,
-        build_seconds,
+        warnings: shared.warnings.clone(),
+        build_seconds: shared.build_seconds,
         length_unit: units(study).0.into(),
         energy_unit: units(study).1.into(),
         rows,
@@ -948,6 +1136,37 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
         write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;
     }
     Ok(summary)
+}
+
+/// [`run_study`] showing its stages on `progress`, one unit at a time ([`run_study_jobs`] with
+/// one job).
+///
+/// # Errors
+/// As [`run_study_jobs`].
+pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Result<RunSummary> {
+    run_study_jobs(study, out_dir, progress, 1)
+}
+
+/// Runs a study in `jobs` threads: the model, the stuck mode and the level reference once
+/// ([`build_shared`]), then its units ([`crate::units::study_units`]: at each level the
+/// full-order sweep ([`full_order_level`]), each reduced model's self-correcting sweep
+/// ([`reduced_level`]) and the gamma study), dealt to the threads as they become free
+/// ([`crate::units::run_units_threads`]), then merged in unit order ([`merge_units`]): the
+/// energy errors, the CSVs, `summary.json`, the plots and `basis_study.csv`, identical for any
+/// `jobs`.
+///
+/// # Errors
+/// The model's errors, a file that cannot be written; a sweep or a unit that fails is a row of
+/// the table.
+pub fn run_study_jobs(study: &Study, out_dir: &Path, progress: Progress, jobs: usize) -> Result<RunSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
+    let shared = build_shared(study, progress)?;
+    let all_units = study_units(study);
+    // concurrent units print plain lines (bars of several threads would overwrite each other)
+    let unit_progress = if jobs > 1 && progress == Progress::Bars { Progress::Lines } else { progress };
+    let runner = UnitRunner::new(study, &shared, unit_progress)?;
+    let outputs = run_units_threads(&runner, &all_units, jobs);
+    merge_units(study, out_dir, &shared, &all_units, outputs)
 }
 
 /// The summary as a fixed-width text table.
