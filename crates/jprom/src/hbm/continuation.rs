@@ -44,7 +44,7 @@
 
 use super::newton::{self, NewtonSettings, NonlinearProblem};
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
-use super::solve::{finish_point, newton, plan_for, reference_force, NewtonOutcome};
+use super::solve::{finish_point, newton, plan_for, reference_force, AtFrequency, NewtonOutcome};
 use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
@@ -476,7 +476,7 @@ pub fn sweep_from(
             let s = (w1 - omega) / (new_omega - omega);
             let guess: Vec<f64> = (0..n).map(|i| y[i] + s * (corrected.y[i] - y[i])).collect();
             let lin = system.linear_part(w1)?;
-            match newton(system, &lin, plan, guess, hopts, hopts.max_iterations, w1, &mut ws) {
+            match newton(AtFrequency { system, plan, opts: hopts, omega: w1 }, &lin, guess, hopts.max_iterations, &mut ws) {
                 Ok(o) => (w1, o),
                 Err(_) => (new_omega, converged),
             }

@@ -14,6 +14,7 @@
 use super::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::aft::{evaluate_contacts, AftPlan, ContactCycle, ContactForces};
 use crate::error::{JpError, Result};
+use crate::linalg::sparse::sparse_from_triplets_in;
 use crate::linalg::{sparse_from_triplets, Matrix};
 use faer::{Accum, Mat, Par};
 
@@ -320,20 +321,7 @@ pub fn evaluate(
         let jac = if sparse { Some(linear_jacobian(layout, lin)) } else { jac.map(Matrix::Dense) };
         return Ok((r, jac));
     }
-    let plan = contact_plan(system, plan)?;
-    gather_contact_coords(system, z, &mut ws.w_all);
-    evaluate_contacts(
-        plan,
-        system.contact_laws(),
-        system.contact_offsets(),
-        system.n_contact_coords(),
-        &ws.w_all,
-        want_jacobian,
-        false,
-        &mut ws.forces,
-    );
-    // a failed external law (C callback) ends the evaluation with its error, never NaN
-    ws.forces.check()?;
+    contact_forces_at(system, plan, z, want_jacobian, false, ws)?;
     ws.contact_force_norm = scatter_contact_force(system, &ws.forces.force, &mut r);
     if sparse {
         let nt = layout.total();
@@ -341,9 +329,9 @@ pub fn evaluate(
         t.clear();
         linear_triplets(layout, lin, &mut t);
         contact_jacobian_triplets(system, &ws.forces, &mut t);
-        let j = sparse_from_triplets(nt, nt, t.clone())?;
+        let j = sparse_from_triplets_in(nt, nt, &mut t);
         ws.triplets = t;
-        return Ok((r, Some(Matrix::Sparse(j))));
+        return Ok((r, Some(Matrix::Sparse(j?))));
     }
     if let Some(j) = jac.as_mut() {
         scatter_contact_jacobian(system, &ws.forces, j);
@@ -368,6 +356,13 @@ pub fn contact_cycles(
     if z.len() != system.layout().total() {
         return Err(JpError::bad_size("HBM unknowns z", system.layout().total(), z.len()));
     }
+    contact_forces_at(system, plan, z, false, true, ws)?;
+    Ok(std::mem::take(&mut ws.forces.cycles))
+}
+
+/// The contact forces (and, when asked, their Jacobian blocks and cycle reports) at `z`, into
+/// `ws.forces`.
+fn contact_forces_at(system: &dyn HarmonicSystem, plan: Option<&AftPlan>, z: &[f64], want_jacobian: bool, want_cycles: bool, ws: &mut ResidualWorkspace) -> Result<()> {
     let plan = contact_plan(system, plan)?;
     gather_contact_coords(system, z, &mut ws.w_all);
     evaluate_contacts(
@@ -376,12 +371,12 @@ pub fn contact_cycles(
         system.contact_offsets(),
         system.n_contact_coords(),
         &ws.w_all,
-        false,
-        true,
+        want_jacobian,
+        want_cycles,
         &mut ws.forces,
     );
-    ws.forces.check()?;
-    Ok(std::mem::take(&mut ws.forces.cycles))
+    // a failed external law (C callback) ends the evaluation with its error, never NaN
+    ws.forces.check()
 }
 
 fn contact_plan<'p>(system: &dyn HarmonicSystem, plan: Option<&'p AftPlan>) -> Result<&'p AftPlan> {

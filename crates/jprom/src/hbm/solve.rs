@@ -76,19 +76,26 @@ impl NonlinearProblem for PointProblem<'_> {
     }
 }
 
+/// What every solve at one frequency shares: the system, its AFT plan, the options and the
+/// frequency.
+#[derive(Clone, Copy)]
+pub(crate) struct AtFrequency<'a> {
+    pub system: &'a dyn HarmonicSystem,
+    pub plan: Option<&'a AftPlan>,
+    pub opts: &'a HbmOptions,
+    pub omega: f64,
+}
+
 /// Newton / dogleg trust region at fixed `lin` (one frequency) from `z0`, with at most
 /// `max_iterations` Jacobian evaluations.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn newton(
-    system: &dyn HarmonicSystem,
+    at: AtFrequency<'_>,
     lin: &LinearPart,
-    plan: Option<&AftPlan>,
     z0: Vec<f64>,
-    opts: &HbmOptions,
     max_iterations: usize,
-    omega: f64,
     ws: &mut ResidualWorkspace,
 ) -> std::result::Result<NewtonOutcome, NotConverged> {
+    let AtFrequency { system, plan, opts, omega } = at;
     let settings = NewtonSettings {
         tolerance: opts.residual_tolerance,
         step_tolerance: opts.step_tolerance,
@@ -161,7 +168,7 @@ pub fn solve_point(
     let plan = plan_for(system, opts)?;
     let lin = system.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
-    let outcome = solve_with_fallback(system, &lin, plan.as_ref(), z0, opts, omega, &mut ws)?;
+    let outcome = solve_with_fallback(AtFrequency { system, plan: plan.as_ref(), opts, omega }, &lin, z0, &mut ws)?;
     finish_point(system, plan.as_ref(), omega, outcome, &mut ws)
 }
 
@@ -170,18 +177,11 @@ pub fn solve_point(
 /// attempts together use at most `opts.max_iterations` Jacobian evaluations, and the outcome
 /// reports them all. The first attempt gets a quarter of the budget (a point that converges at
 /// all usually does so in a few iterations).
-pub(crate) fn solve_with_fallback(
-    system: &dyn HarmonicSystem,
-    lin: &LinearPart,
-    plan: Option<&AftPlan>,
-    z0: Vec<f64>,
-    opts: &HbmOptions,
-    omega: f64,
-    ws: &mut ResidualWorkspace,
-) -> Result<NewtonOutcome> {
+pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, ws: &mut ResidualWorkspace) -> Result<NewtonOutcome> {
+    let opts = at.opts;
     let budget = opts.max_iterations;
     let first = (budget / 4).max(1);
-    match newton(system, lin, plan, z0.clone(), opts, first, omega, ws) {
+    match newton(at, lin, z0.clone(), first, ws) {
         Ok(o) => Ok(o),
         Err(NotConverged { iterations, error: e @ JpError::NoConvergence { .. }, .. }) if budget > iterations + 1 => {
             // load stepping gets half of what is left; if it stops at a fold in the level (the
@@ -189,9 +189,9 @@ pub(crate) fn solve_with_fallback(
             // the level follows the branch round it with the rest
             let left = budget - iterations;
             let share = (left / 2).max(1);
-            let staged = match load_stepping(system, lin, plan, z0.clone(), opts, share, omega, ws) {
+            let staged = match load_stepping(at, lin, z0.clone(), share, ws) {
                 Err(JpError::NoConvergence { iterations: it2, .. }) if left > it2 + 1 => {
-                    level_continuation(system, lin, plan, z0, opts, left - it2, omega, ws).map(|mut o| {
+                    level_continuation(at, lin, z0, left - it2, ws).map(|mut o| {
                         o.iterations += it2;
                         o
                     }).map_err(|e| match e {
@@ -236,24 +236,15 @@ const LOAD_STAGE_ITERATIONS: usize = 50;
 /// # Errors
 /// [`JpError::NoConvergence`] with the iterations spent when the budget runs out or the step in
 /// `lambda` falls below 1/1024; a singular Jacobian's error.
-#[allow(clippy::too_many_arguments)]
-fn load_stepping(
-    system: &dyn HarmonicSystem,
-    lin: &LinearPart,
-    plan: Option<&AftPlan>,
-    z0: Vec<f64>,
-    opts: &HbmOptions,
-    budget: usize,
-    omega: f64,
-    ws: &mut ResidualWorkspace,
-) -> Result<NewtonOutcome> {
+fn load_stepping(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budget: usize, ws: &mut ResidualWorkspace) -> Result<NewtonOutcome> {
+    let omega = at.omega;
     let no_convergence = |iterations: usize, residual: f64| JpError::NoConvergence {
         what: format!("HBM load stepping at omega = {omega}"),
         iterations,
         residual,
     };
     let mut used = 0;
-    let mut current = match newton(system, &lin.with_harmonic_forces_scaled(0.0), plan, z0, opts, budget, omega, ws) {
+    let mut current = match newton(at, &lin.with_harmonic_forces_scaled(0.0), z0, budget, ws) {
         Ok(o) => o,
         Err(f) => return Err(if matches!(f.error, JpError::NoConvergence { .. }) { no_convergence(f.iterations, f.residual_norm) } else { f.error }),
     };
@@ -265,7 +256,7 @@ fn load_stepping(
         }
         let next = (lambda + step).min(1.0);
         let stage = if next == 1.0 { lin.clone() } else { lin.with_harmonic_forces_scaled(next) };
-        match newton(system, &stage, plan, current.z.clone(), opts, (budget - used).min(LOAD_STAGE_ITERATIONS), omega, ws) {
+        match newton(at, &stage, current.z.clone(), (budget - used).min(LOAD_STAGE_ITERATIONS), ws) {
             Ok(o) => {
                 used += o.iterations;
                 current = o;
@@ -347,24 +338,15 @@ impl NonlinearProblem for LevelProblem<'_> {
 /// # Errors
 /// [`JpError::NoConvergence`] with the iterations spent when the budget runs out, the step
 /// falls below `1e-6` or the branch runs back below `lambda = -1`; a singular system's error.
-#[allow(clippy::too_many_arguments)]
-fn level_continuation(
-    system: &dyn HarmonicSystem,
-    lin: &LinearPart,
-    plan: Option<&AftPlan>,
-    z0: Vec<f64>,
-    opts: &HbmOptions,
-    budget: usize,
-    omega: f64,
-    ws: &mut ResidualWorkspace,
-) -> Result<NewtonOutcome> {
+fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budget: usize, ws: &mut ResidualWorkspace) -> Result<NewtonOutcome> {
+    let AtFrequency { system, plan, opts, omega } = at;
     let no_convergence = |iterations: usize, residual: f64| JpError::NoConvergence {
         what: format!("HBM continuation in the forcing level at omega = {omega}"),
         iterations,
         residual,
     };
     let lin0 = lin.with_harmonic_forces_scaled(0.0);
-    let start = newton(system, &lin0, plan, z0, opts, budget, omega, ws).map_err(|f| match f.error {
+    let start = newton(at, &lin0, z0, budget, ws).map_err(|f| match f.error {
         JpError::NoConvergence { .. } => no_convergence(f.iterations, f.residual_norm),
         e => e,
     })?;
@@ -436,7 +418,7 @@ fn level_continuation(
                         if left == 0 {
                             return Err(no_convergence(used, f64::NAN));
                         }
-                        return match newton(system, lin, plan, guess, opts, left, omega, problem.ws) {
+                        return match newton(at, lin, guess, left, problem.ws) {
                             Ok(mut o) => {
                                 o.iterations += used;
                                 Ok(o)
