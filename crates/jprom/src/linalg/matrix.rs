@@ -9,6 +9,7 @@ use super::sparse::{sparse_from_triplets, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::sparse::SparseColMatRef;
 use faer::{Conj, Mat};
 
 /// A real matrix, dense or sparse (compressed columns).
@@ -228,46 +229,49 @@ impl SparseEquilibratedLu {
         if a.ncols() != n {
             return Err(JpError::bad_size(format!("{what} (columns)"), n, a.ncols()));
         }
-        let m = Matrix::Sparse(a.clone());
-        let norms = m.column_norms();
+        let norms: Vec<f64> = {
+            let (cp, v) = (a.as_ref().symbolic().col_ptr(), a.val());
+            (0..n).map(|j| v[cp[j]..cp[j + 1]].iter().map(|x| x * x).sum::<f64>().sqrt()).collect()
+        };
         if let Some(j) = norms.iter().position(|&s| s == 0.0) {
             return Err(zero_column(what, j));
         }
         let one_or = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
         let col: Vec<f64> = norms.iter().map(|&s| 1.0 / one_or(s)).collect();
-        let mut b = a.clone();
-        {
-            let (cp, ri) = (a.as_ref().symbolic().col_ptr().to_vec(), a.as_ref().symbolic().row_idx().to_vec());
-            let v = b.val_mut();
-            for j in 0..n {
-                for k in cp[j]..cp[j + 1] {
-                    v[k] *= col[j];
-                }
+        // B = R A C on A's own pattern (a view: the pattern is not copied)
+        let sym = a.as_ref().symbolic();
+        let (cp, ri) = (sym.col_ptr(), sym.row_idx());
+        let mut v = a.val().to_vec();
+        for j in 0..n {
+            for k in cp[j]..cp[j + 1] {
+                v[k] *= col[j];
             }
-            let mut rs = vec![0.0; n];
-            for k in 0..v.len() {
-                rs[ri[k]] += v[k] * v[k];
-            }
-            let row: Vec<f64> = rs.iter().map(|s| 1.0 / one_or(s.sqrt())).collect();
-            for k in 0..v.len() {
-                v[k] *= row[ri[k]];
-            }
-            let symbolic = cache.for_matrix(&b)?;
-            let lu = Lu::try_new_with_symbolic(symbolic, b.as_ref()).map_err(|e| JpError::singular(format!("{what} ({n} x {n}, sparse): {e:?}")))?;
-            let this = SparseEquilibratedLu { lu, row, col };
-            // known-solution check on the equilibrated matrix
-            let bm = Matrix::Sparse(b);
-            let ones = vec![1.0; n];
-            let rhs = bm.mat_vec(&ones);
-            let x = this.solve_scaled(&rhs);
-            let err = x.iter().map(|v| (v - 1.0).abs()).fold(0.0f64, |m, e| if e.is_finite() { m.max(e) } else { f64::INFINITY });
-            if !(err <= 1e-6) {
-                return Err(JpError::singular(format!(
-                    "{what} ({n} x {n}, sparse): the LU does not reproduce a known solution (error {err:.3e}): numerically singular"
-                )));
-            }
-            Ok(this)
         }
+        let mut rs = vec![0.0; n];
+        for k in 0..v.len() {
+            rs[ri[k]] += v[k] * v[k];
+        }
+        let row: Vec<f64> = rs.iter().map(|s| 1.0 / one_or(s.sqrt())).collect();
+        for k in 0..v.len() {
+            v[k] *= row[ri[k]];
+        }
+        let symbolic = cache.for_matrix(a)?;
+        let b = SparseColMatRef::new(sym, &v);
+        let lu = Lu::try_new_with_symbolic(symbolic, b).map_err(|e| JpError::singular(format!("{what} ({n} x {n}, sparse): {e:?}")))?;
+        let this = SparseEquilibratedLu { lu, row, col };
+        // known-solution check on the equilibrated matrix: B y = B 1 must give y = 1
+        let mut rhs = vec![0.0; n];
+        for k in 0..v.len() {
+            rhs[ri[k]] += v[k];
+        }
+        let x = this.solve_scaled(&rhs);
+        let err = x.iter().map(|v| (v - 1.0).abs()).fold(0.0f64, |m, e| if e.is_finite() { m.max(e) } else { f64::INFINITY });
+        if !(err <= 1e-6) {
+            return Err(JpError::singular(format!(
+                "{what} ({n} x {n}, sparse): the LU does not reproduce a known solution (error {err:.3e}): numerically singular"
+            )));
+        }
+        Ok(this)
     }
 
     /// Solves the equilibrated system `B y = b`.

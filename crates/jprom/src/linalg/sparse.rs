@@ -14,7 +14,16 @@ pub type SparseMat = SparseColMat<usize, f64>;
 /// # Errors
 /// [`JpError::InvalidValue`] if an index is out of range or a value is not finite.
 pub fn sparse_from_triplets(nrows: usize, ncols: usize, mut triplets: Vec<(usize, usize, f64)>) -> Result<SparseMat> {
-    for &(i, j, v) in &triplets {
+    sparse_from_triplets_in(nrows, ncols, &mut triplets)
+}
+
+/// [`sparse_from_triplets`] on a caller's buffer, which it sorts in place (so that a buffer
+/// reused across calls is not copied).
+///
+/// # Errors
+/// As [`sparse_from_triplets`].
+pub fn sparse_from_triplets_in(nrows: usize, ncols: usize, triplets: &mut [(usize, usize, f64)]) -> Result<SparseMat> {
+    for &(i, j, v) in triplets.iter() {
         if i >= nrows || j >= ncols {
             return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) outside {nrows} x {ncols}")));
         }
@@ -29,7 +38,7 @@ pub fn sparse_from_triplets(nrows: usize, ncols: usize, mut triplets: Vec<(usize
     let mut row_idx = Vec::with_capacity(triplets.len());
     let mut val: Vec<f64> = Vec::with_capacity(triplets.len());
     let mut last: Option<(usize, usize)> = None;
-    for &(i, j, v) in &triplets {
+    for &(i, j, v) in triplets.iter() {
         if last == Some((i, j)) {
             *val.last_mut().expect("nonempty") += v;
         } else {
