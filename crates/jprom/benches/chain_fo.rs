@@ -2,7 +2,8 @@
 //! time to place the `n` contacts one by one (each addition checked as the C API checks it:
 //! on its own and against the earlier ones, `Model::validate_contact` and `ContactTopology::add`),
 //! time per converged frequency point of the full and the condensed system, the peak resident
-//! memory and the share of system time (allocation churn shows there).
+//! memory, the share of system time, and the heap allocations per Newton iteration of the full
+//! solve (count and MB, from a counting allocator: the allocation churn of the iteration).
 //!
 //! `cargo bench -p jprom --bench chain_fo` prints a table for n = 20, 50, 200, 1,000 (the full
 //! system as stored by default: sparse HBM Jacobian and sparse LU from 1,000 unknowns; up to
@@ -20,9 +21,37 @@ use jprom::hbm::full::SPARSE_MIN_UNKNOWNS;
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, Storage};
 use jprom::model::contact_coordinates::ContactTopology;
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 const H: usize = 5;
+
+/// The system allocator, counting allocations and bytes (the allocation churn of a solve).
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+static BYTES: AtomicUsize = AtomicUsize::new(0);
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        BYTES.fetch_add(layout.size(), Ordering::Relaxed);
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        BYTES.fetch_add(new_size, Ordering::Relaxed);
+        System.realloc(ptr, layout, new_size)
+    }
+}
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocated() -> (usize, usize) {
+    (ALLOCS.load(Ordering::Relaxed), BYTES.load(Ordering::Relaxed))
+}
 
 /// User and system CPU seconds of this process so far (`/proc/self/stat`, clock ticks of 100 Hz).
 fn cpu_seconds() -> (f64, f64) {
@@ -68,18 +97,29 @@ fn main() {
     println!("chain of n Jenkins-damped masses, H = {H}, nt = {}, one point from zero near the first stuck resonance", opts.nt());
     println!("full = the full-order system as stored by default (sparse from {SPARSE_MIN_UNKNOWNS} unknowns when K, M, C are sparse); dense and condensed up to n = {DENSE_UP_TO}");
     println!(
-        "{:>6} {:>10} {:>8} {:>12} {:>6} {:>12} {:>14} {:>10} {:>8}",
-        "n", "add n [s]", "storage", "full [s/pt]", "iters", "dense [s/pt]", "condensed [s]", "sys share", "peak MB"
+        "{:>6} {:>10} {:>8} {:>12} {:>6} {:>12} {:>12} {:>12} {:>14} {:>10} {:>8}",
+        "n", "add n [s]", "storage", "full [s/pt]", "iters", "allocs/iter", "MB/iter", "dense [s/pt]", "condensed [s]", "sys share", "peak MB"
     );
+    // one solve first: the process's one-time allocations (thread pools, FFT plans) are not
+    // the iteration's
+    let (warm, _) = chain(20);
+    let (w0, wb0) = allocated();
+    let _ = solve_point(&FullSystem::new(&warm, &opts).expect("full system"), 0.75, None, &opts);
+    let (w1, wb1) = allocated();
+    println!("warm-up solve (n = 20): {} allocations, {:.1} MB", w1 - w0, (wb1 - wb0) as f64 / 1e6);
     for n in sizes {
         let (model, add_s) = chain(n);
         // near the lowest stuck natural frequency (K + 0.5 I): omega_1 ~ sqrt(0.5 + small)
         let omega = 0.75;
         let (u0, s0) = cpu_seconds();
         let full = FullSystem::new(&model, &opts).expect("full system");
+        let (a0, b0) = allocated();
         let t = Instant::now();
         let p = solve_point(&full, omega, None, &opts);
         let full_s = t.elapsed().as_secs_f64();
+        let (a1, b1) = allocated();
+        let iters = p.as_ref().map(|p| p.iterations.max(1)).unwrap_or(1) as f64;
+        let (allocs_it, mb_it) = ((a1 - a0) as f64 / iters, (b1 - b0) as f64 / iters / 1e6);
         let (u1, s1) = cpu_seconds();
         let share = if u1 + s1 > u0 + s0 { (s1 - s0) / ((u1 - u0) + (s1 - s0)) } else { 0.0 };
         let full_it = p.as_ref().map(|p| p.iterations.to_string()).unwrap_or_else(|e| format!("fail: {e}"));
@@ -100,7 +140,7 @@ fn main() {
         }
         let storage = format!("{:?}", full.storage()).to_lowercase();
         println!(
-            "{n:>6} {add_s:>10.4} {storage:>8} {full_s:>12.3} {full_it:>6} {dense_s:>12} {cond_s:>14} {:>9.0}% {:>8.0}",
+            "{n:>6} {add_s:>10.4} {storage:>8} {full_s:>12.3} {full_it:>6} {allocs_it:>12.0} {mb_it:>12.2} {dense_s:>12} {cond_s:>14} {:>9.0}% {:>8.0}",
             100.0 * share,
             vm_hwm_mb()
         );
