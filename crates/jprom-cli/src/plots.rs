@@ -186,11 +186,19 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 
 /// Tick label: on log axes the decades (`1e-5`), and on an axis of at most two decades also
 /// `2e-5` and `5e-5`; other ticks are left unlabelled, so no label repeats. Plain numbers on
-/// linear axes.
-fn tick(v: f64, log: bool, decades: f64) -> String {
+/// linear axes, with as many digits as the axis' span (`span`) needs for neighbouring ticks to
+/// differ (a static term that varies in its fifth digit: `-2.00012e-5`, `-2.00014e-5`).
+fn tick(v: f64, log: bool, decades: f64, span: f64) -> String {
     if !log {
         let a = v.abs();
-        return if a != 0.0 && !(1e-3..1e5).contains(&a) { format!("{v:.1e}") } else { format!("{}", (v * 1e6).round() / 1e6) };
+        let step = (span / 10.0).abs();
+        if a != 0.0 && !(1e-3..1e5).contains(&a) {
+            let digits = if step > 0.0 && step.is_finite() { ((a / step).log10().ceil().max(1.0) as usize).min(12) } else { 1 };
+            return format!("{v:.digits$e}");
+        }
+        let decimals = if step > 0.0 && step < 1.0 { ((-step.log10()).ceil() as i32 + 1).clamp(6, 15) } else { 6 };
+        let scale = 10f64.powi(decimals);
+        return format!("{}", (v * scale).round() / scale);
     }
     let e = v.log10().floor();
     let mantissa = v / 10f64.powf(e);
@@ -243,8 +251,8 @@ fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) 
                 .configure_mesh()
                 .x_desc(spec.x_label)
                 .y_desc(spec.y_label)
-                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x, (x1 / x0).log10()))
-                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y, (y1 / y0).log10()))
+                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x, (x1 / x0).log10(), x1 - x0))
+                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y, (y1 / y0).log10(), y1 - y0))
                 .light_line_style(WHITE.mix(0.0))
                 .bold_line_style(BLACK.mix(0.12))
                 .draw()

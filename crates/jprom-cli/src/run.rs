@@ -510,6 +510,7 @@ fn write_study_plots(
     out_dir: &Path,
     summary: &RunSummary,
     frf_series: &[(f64, Vec<Series>)],
+    frf0_series: &[(f64, Vec<Series>)],
     energy_series: &[(f64, Vec<Series>)],
     e_star_series: &[(f64, Vec<Series>)],
     err_points: Vec<(String, Vec<(f64, f64)>)>,
@@ -521,6 +522,12 @@ fn write_study_plots(
         let title = format!("First harmonic at the first output, alpha = alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x1_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
         write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
+    }
+    let x0_label = format!("X0 at the first output [{len_unit}]");
+    for (level, series) in frf0_series {
+        let title = format!("Static term at the first output, alpha = alpha_ST x {level:e}, H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x0_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&out_dir.join(format!("frf_x0_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     for (level, series) in energy_series {
         let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
@@ -646,6 +653,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
     c.files.push((format!("{tag}_fo.csv"), csv_bytes(&res, None, units(run.study))?));
     let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
     series.frf.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.frf0.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, 0))).collect(), true));
     series.energies.push(SolverSeries::new("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
     let warnings = sweep_warnings(&res, &p, run.band);
     let edge = peak_on_edge(&res, &p, run.band).map(|edge| {
@@ -745,6 +753,7 @@ fn reduced_level(
     c.files.push((format!("{tag}_{}.csv", name.to_lowercase()), csv_bytes(res, Some(errors), units(run.study))?));
     let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
     series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
+    series.frf0.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, 0))).collect(), true));
     series.e_stars.push(SolverSeries::new(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
     let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
     let mut warnings = sweep_warnings(res, p, run.band);
@@ -841,6 +850,8 @@ struct Collected {
 #[derive(Default)]
 struct LevelSeries {
     frf: Vec<SolverSeries>,
+    /// The static term `X0` at the first output along each sweep (the paper's Fig. 3c/d).
+    frf0: Vec<SolverSeries>,
     energies: Vec<SolverSeries>,
     e_stars: Vec<SolverSeries>,
 }
@@ -1028,6 +1039,7 @@ impl<'a> UnitRunner<'a> {
         out.err_points = c.err_points;
         out.files = c.files;
         out.frf = series.frf;
+        out.frf0 = series.frf0;
         out.energies = series.energies;
         out.e_stars = series.e_stars;
         Ok(out)
@@ -1046,6 +1058,8 @@ pub struct UnitOutput {
     /// Files for the output folder: name, contents.
     pub files: Vec<(String, Vec<u8>)>,
     pub frf: Vec<SolverSeries>,
+    #[serde(default)]
+    pub frf0: Vec<SolverSeries>,
     pub energies: Vec<SolverSeries>,
     pub e_stars: Vec<SolverSeries>,
     pub basis_study: Vec<BasisStudyRow>,
@@ -1071,7 +1085,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
     let kinds = rom_kinds(study);
     let mut c = Collected::default();
-    let (mut frf_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut frf_series, mut frf0_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
     let mut basis_study_seconds = 0.0;
     let mut outputs = outputs.into_iter().zip(study_units).peekable();
@@ -1091,6 +1105,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
                 }
             }
             series.frf.extend(out.frf);
+            series.frf0.extend(out.frf0);
             series.energies.extend(out.energies);
             series.e_stars.extend(out.e_stars);
             basis_study.extend(out.basis_study);
@@ -1098,6 +1113,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         }
         let plot = |v: Vec<SolverSeries>| v.into_iter().map(SolverSeries::series).collect::<Vec<Series>>();
         frf_series.push((level, plot(series.frf)));
+        frf0_series.push((level, plot(series.frf0)));
         energy_series.push((level, plot(series.energies)));
         if !kinds.is_empty() {
             e_star_series.push((level, plot(series.e_stars)));
@@ -1130,7 +1146,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
     };
     jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
     if study.output.plots {
-        write_study_plots(study, out_dir, &summary, &frf_series, &energy_series, &e_star_series, err_points)?;
+        write_study_plots(study, out_dir, &summary, &frf_series, &frf0_series, &energy_series, &e_star_series, err_points)?;
     }
     if !summary.basis_study.is_empty() {
         write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;

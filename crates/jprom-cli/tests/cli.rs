@@ -67,12 +67,18 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     // the FO sweep's line counts the points it really made (the CSV's rows)
     let fo_rows = std::fs::read_to_string(out_dir.join("alpha_ST_x1e-1_fo.csv")).unwrap().lines().count() - 1;
     assert!(err.contains("jprom: FO sweep, alpha_ST x 1e-1: done in") && err.lines().any(|l| l.starts_with("jprom: FO sweep") && l.contains(&format!(", {fo_rows} points"))), "{fo_rows} points:\n{err}");
-    for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg", "predicted_error_vs_frequency_alpha_ST_x1e-1.svg", "energy_alpha_ST_x1e-1.svg", "error_vs_level.svg"] {
+    for file in ["alpha_ST_x1e-1_fo.csv", "alpha_ST_x1e-1_nlr.csv", "summary.json", "frf_alpha_ST_x1e-1.svg", "frf_x0_alpha_ST_x1e-1.svg", "predicted_vs_actual_error.svg", "predicted_error_vs_frequency_alpha_ST_x1e-1.svg", "energy_alpha_ST_x1e-1.svg", "error_vs_level.svg"] {
         assert!(out_dir.join(file).exists(), "missing {file}");
     }
     // the plots name H and the ROM's basis sizes and gamma in their legends
     let frf = std::fs::read_to_string(out_dir.join("frf_alpha_ST_x1e-1.svg")).unwrap();
     assert!(frf.contains("H = 1") && frf.contains("FO (condensed)") && frf.contains("NLR, n_h = [") && frf.contains("gamma = 1e3") && !frf.contains("FR,"), "frf legend");
+    // the static term X0 along the same sweeps (the paper's Fig. 3c/d), one series per solver
+    let x0 = std::fs::read_to_string(out_dir.join("frf_x0_alpha_ST_x1e-1.svg")).unwrap();
+    assert!(x0.contains("Static term at the first output") && x0.contains("X0 at the first output [") && x0.contains("FO (condensed)") && x0.contains("NLR, n_h = [") && !x0.contains("FR,"), "X0 plot");
+    for label in ["FO (condensed)", "NLR, n_h = ["] {
+        assert_eq!(x0.matches(label).count(), frf.matches(label).count(), "the X0 plot names the X1 plot's series ({label})");
+    }
     let e_star = std::fs::read_to_string(out_dir.join("predicted_error_vs_frequency_alpha_ST_x1e-1.svg")).unwrap();
     assert!(e_star.contains("predicted e*_1") && e_star.contains("threshold 0.05") && e_star.contains("NLR, n_h = ["), "e* plot");
     // peak |X1| of FO and NLR from the CSVs

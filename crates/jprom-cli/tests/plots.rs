@@ -115,3 +115,20 @@ fn log_axes_label_decades_once_and_keep_edge_points_inside() {
     assert!(!xs.is_empty());
     assert!(xs.iter().all(|&x| x > 92.0 + 1.0 && x < 748.0 - 1.0), "a marker on the frame: {xs:?}");
 }
+
+/// Linear axes over a narrow range far from zero (the static term X0 varies in its fifth
+/// digit): every tick label differs from its neighbours, and the values are readable.
+#[test]
+fn narrow_linear_axes_label_ticks_with_enough_digits() {
+    let x0: Vec<(f64, f64)> = (0..50).map(|i| (2140.0 + i as f64, -2.0e-5 - 1.5e-9 * ((i as f64) * 0.2).sin())).collect();
+    let series = [Series::solver("FO (condensed)", x0, true)];
+    let spec = PlotSpec { title: "Static term", x_label: "frequency [Hz]", y_label: "X0 [mm]", log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
+    let svg = write("narrow_linear.svg", &spec, &series);
+    let ticks: Vec<String> = texts(&svg).into_iter().filter(|(x, _)| *x < 760.0).map(|(_, s)| s).filter(|s| s.starts_with("-2.0")).collect();
+    assert!(ticks.len() >= 3, "too few y ticks: {ticks:?}");
+    let mut unique = ticks.clone();
+    unique.sort();
+    unique.dedup();
+    assert_eq!(unique.len(), ticks.len(), "repeated tick labels: {ticks:?}");
+    assert!(ticks.iter().all(|t| t.parse::<f64>().is_ok_and(|v| (-2.0002e-5..-1.9998e-5).contains(&v))), "{ticks:?}");
+}
