@@ -5,8 +5,9 @@
 # `cargo build` left it, copied before the MPI build replaces it); MPI_JPROM (environment): an
 # MPI build to use instead of building one.
 #  1. `mpirun -np 2` and `-np 3` of `jprom run` (built with --features mpi) on a two-level
-#     study (6 units) and `-np 3` on a four-level one (12 units): the same CSV and SVG files as
-#     the serial run, byte for byte.
+#     study (6 units), on a two-case two-level study (12 units, files prefixed with the case)
+#     and on the demo study (`jprom demo`'s, 8 units with the gamma study), and `-np 3` on a
+#     four-level one (12 units): the same CSV and SVG files as the serial run, byte for byte.
 #  2. A unit forced to fail (JPROM_FAIL_UNIT=1:panic, FR at the first level) under -np 3: rank 0
 #     reports it in the summary, the job exits non-zero, the other units' CSVs are the serial ones.
 #  3. examples-c/mpi_levels.c (the C API from an MPI program) prints the same table with 2
@@ -48,19 +49,30 @@ same_files() {
 echo "== serial runs (jprom without MPI)"
 "$serial" run "$studies/two_levels.toml" --out "$work/two-serial" --quiet > "$work/two-serial.txt"
 "$serial" run "$studies/four_levels.toml" --out "$work/four-serial" --quiet > "$work/four-serial.txt"
+"$serial" run "$studies/two_cases.toml" --out "$work/cases-serial" --quiet > "$work/cases-serial.txt"
+"$serial" run crates/jprom-cli/demo_study.toml --out "$work/demo-serial" --quiet > "$work/demo-serial.txt"
 
-echo "== mpirun -np 2 and -np 3"
+echo "== mpirun -np 2 and -np 3 (serial runs done at ${SECONDS} s)"
 for np in 2 3; do
     timeout 600 "${mpirun[@]}" -np "$np" "$jprom" run "$studies/two_levels.toml" --out "$work/two-np$np" --quiet > "$work/two-np$np.txt"
     same_files "$work/two-serial" "$work/two-np$np"
+    # parameter cases: 2 cases x 2 levels x FO, FR, NLR
+    timeout 600 "${mpirun[@]}" -np "$np" "$jprom" run "$studies/two_cases.toml" --out "$work/cases-np$np" --quiet > "$work/cases-np$np.txt"
+    same_files "$work/cases-serial" "$work/cases-np$np"
+    # the demo study (jprom demo): 2 levels x FO, FR, NLR and the gamma study
+    timeout 900 "${mpirun[@]}" -np "$np" "$jprom" run crates/jprom-cli/demo_study.toml --out "$work/demo-np$np" --quiet > "$work/demo-np$np.txt"
+    same_files "$work/demo-serial" "$work/demo-np$np"
 done
+# the files of each case are there, prefixed with its name
+ls "$work/cases-np3"/base_alpha_ST_x1e-1_fo.csv "$work/cases-np3"/mu0.2_frf_alpha_ST_x1e-1.svg > /dev/null
+[ "$(cd "$work/demo-serial" && ls *.csv | wc -l)" -ge 7 ] # 6 sweeps and basis_study.csv
 timeout 600 "${mpirun[@]}" -np 3 "$jprom" run "$studies/four_levels.toml" --out "$work/four-np3" --quiet > "$work/four-np3.txt"
 same_files "$work/four-serial" "$work/four-np3"
 # a one-rank job is the serial run
 timeout 600 "${mpirun[@]}" -np 1 "$jprom" run "$studies/two_levels.toml" --out "$work/two-np1" --quiet > "$work/two-np1.txt"
 same_files "$work/two-serial" "$work/two-np1"
 
-echo "== a unit that fails on some rank is reported by rank 0"
+echo "== a unit that fails on some rank is reported by rank 0 (at ${SECONDS} s)"
 set +e
 JPROM_FAIL_UNIT=1:panic timeout 600 "${mpirun[@]}" -x JPROM_FAIL_UNIT -np 3 "$jprom" run "$studies/two_levels.toml" \
     --out "$work/two-fail" > "$work/two-fail.txt" 2> "$work/two-fail.err"
@@ -88,4 +100,4 @@ cat "$work/mpi_levels_2.txt"
 cmp "$work/mpi_levels_1.txt" "$work/mpi_levels_2.txt"
 [ "$(grep -vc '^#' "$work/mpi_levels_1.txt")" = 6 ]
 echo "mpi_levels: 2 ranks print the same table as 1"
-echo "MPI checks passed"
+echo "MPI checks passed in ${SECONDS} s"

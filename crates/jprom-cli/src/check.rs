@@ -343,6 +343,19 @@ pub fn check_study_file(path: &Path) -> Result<String> {
             out.push_str(&format!("  {f}\n"));
         }
     }
+    if !study.cases.is_empty() {
+        let units = crate::units::study_units(&study).len();
+        let levels = study.forcing.levels.len();
+        out.push_str(&format!(
+            "cases: {} (units: {} cases x {levels} levels x {} units per level = {units}; files prefixed with the case's name):\n",
+            study.cases.len(),
+            study.cases.len(),
+            units / (study.cases.len() * levels).max(1)
+        ));
+        for c in &study.cases {
+            out.push_str(&format!("  {}: {}\n", c.name, c.describe()));
+        }
+    }
     let defaults = defaults_applied(&study, &text, is_json);
     if !defaults.is_empty() {
         out.push_str("defaults applied (keys the file does not give):\n");

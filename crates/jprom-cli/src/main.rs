@@ -3,7 +3,7 @@
 //! ```text
 //! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
 //! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
-//!             [--jobs N]           N units (a solver at a level) at once, in threads
+//!             [--jobs N]           N units (a solver at a level of a case) at once, in threads
 //! jprom check STUDY                validate a study file and every file and node it names
 //! jprom modes STUDY [--count N]    natural frequencies: FE model, CB model free and stuck
 //! jprom --version                  jprom <version>
@@ -44,7 +44,7 @@ const USAGE: &str = "usage:
                                  run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
   jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--quiet]
                                  run a study file (.toml or .json); --jobs N runs N units
-                                 (a solver at a level) at once in threads, same results
+                                 (a solver at a level of a case) at once in threads, same results
   jprom check STUDY              validate a study file and the files and nodes it names
                                  (without reading the matrices), print it with its defaults
   jprom modes STUDY [--count N] [--quiet]
@@ -71,7 +71,7 @@ struct Command {
 const QUIET: (&str, bool, &str) = ("--quiet", false, "no progress on standard error (bars on a terminal, plain lines otherwise)");
 const KEEP_PARTIAL: (&str, bool, &str) = ("--keep-partial", false, "exit 0 when a sweep did not cover its band (exit 3 otherwise; results are kept either way)");
 const HELP: (&str, bool, &str) = ("--help, -h", false, "this text");
-const JOBS: (&str, bool, &str) = ("--jobs", true, "N: run N units (a solver at a level) at once, in threads (default 1); the results do not depend on N");
+const JOBS: (&str, bool, &str) = ("--jobs", true, "N: run N units (a solver at a level of a case) at once, in threads (default 1); the results do not depend on N");
 
 const COMMANDS: [Command; 4] = [
     Command {

@@ -1,8 +1,8 @@
 //! `mpirun -np N jprom run STUDY` (cargo feature `mpi`, off by default): a study's units
 //! ([`crate::units`]) dealt to MPI ranks.
 //!
-//! - Rank 0 builds the shared inputs once ([`build_shared`]: the Craig-Bampton model and the
-//!   level reference) and broadcasts them (MessagePack, `MPI_Bcast`); the other ranks wait for
+//! - Rank 0 builds the shared inputs once ([`build_shared`]: each parameter case's model on the
+//!   one Craig-Bampton reduction, and its level reference) and broadcasts them (MessagePack, `MPI_Bcast`); the other ranks wait for
 //!   them in a non-blocking barrier polled every 10 ms, so that they leave the cores to rank 0's
 //!   Craig-Bampton instead of spinning in MPI.
 //! - Rank 0 deals the units dynamically: a rank that finishes sends its unit's output with its

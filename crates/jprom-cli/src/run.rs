@@ -1,11 +1,13 @@
 //! Runs a [`Study`]: builds the model (built-in blade, or Matrix Market `M`, `K` with a node/DoF
-//! map, then Craig-Bampton), sweeps the band with the condensed full-order solver and the FR
-//! and NLR reduced models at each excitation level, evaluates the error predictor, optionally
+//! map, then Craig-Bampton; each parameter case's contact laws, damping and static load on it),
+//! sweeps the band with the condensed full-order solver and the FR and NLR reduced models at
+//! each excitation level of each case, evaluates the error predictor, optionally
 //! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
 use super::plots::{solver_color, write_plot, Dash, Legend, Marker, PlotSpec, Series, Style};
 use plotters::style::RGBColor;
-use super::study::{DampingSpec, FeSource, ModelSpec, Study};
+use super::study::{CaseSpec, DampingSpec, FeSource, ModelSpec, Study};
+use jprom::contact::ContactLaw;
 use jprom::aft::AftPlan;
 use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
@@ -76,6 +78,10 @@ pub struct SolverRow {
     /// The largest error the self-correcting sweep judged its basis by, `max(e*_1, e_lin_1 at
     /// its checks)` over the final pass (ROMs only).
     pub worst_error: Option<f64>,
+    /// The parameter case (`[[cases]]`) of the row; empty (and not in `summary.json`) for a
+    /// study without cases.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub case: String,
 }
 
 /// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
@@ -94,6 +100,9 @@ pub struct BasisStudyRow {
     /// Predicted `e*_1` and actual `e_1`.
     pub predicted_e1: Option<f64>,
     pub actual_e1: Option<f64>,
+    /// The parameter case, as [`SolverRow::case`].
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub case: String,
 }
 
 
@@ -122,7 +131,7 @@ fn gamma_study(
         let basis = big.reconditioned(g)?;
         for &(name, kind) in kinds {
             let rom = reduced_model(kind, coords, Some(condensed), &basis)?;
-            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None };
+            let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None, case: String::new() };
             if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
                 row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
                 row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
@@ -165,6 +174,24 @@ pub struct RunSummary {
     pub basis_study: Vec<BasisStudyRow>,
     /// Seconds spent on it (all levels).
     pub basis_study_seconds: f64,
+    /// The parameter cases (`[[cases]]`), each with its own stuck mode and level reference;
+    /// empty (and not in `summary.json`) for a study without cases. With cases, the fields
+    /// above about the stuck mode and the level reference are the first case's.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub cases: Vec<CaseSummary>,
+}
+
+/// A parameter case's own figures ([`RunSummary::cases`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseSummary {
+    pub name: String,
+    /// Its overrides in words (`mu = 0.2, kn = 30000`).
+    pub overrides: String,
+    pub stuck_resonance_hz: f64,
+    pub stuck_mode_in_band: bool,
+    pub alpha_st: Option<f64>,
+    pub stuck_limit_force: f64,
+    pub level_reference: String,
 }
 
 /// Builds the study's model (no progress shown: [`build_model_with`]).
@@ -180,6 +207,22 @@ pub fn build_model(study: &Study) -> Result<Model> {
 /// # Errors
 /// The blade builder's and Craig-Bampton's errors; for an FE model, as [`build_fe_model`].
 pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
+    build_case_models(study, &[CaseSpec::base()], progress).map(|mut m| m.remove(0))
+}
+
+/// The models of the parameter `cases` (see [`CaseSpec`]), on one Craig-Bampton reduction: the
+/// contact laws enter neither the FE matrices nor the reduction (the contact nodes are its
+/// boundary), so each case's model is the reduced model with the case's contact laws, its
+/// damping and its static load. The built-in blade's pre-twist is scaled to its target preload
+/// in the linear stuck state, which depends on the contact stiffnesses: for a case with other
+/// `kt1`, `kt2` or `kn` the blade is assembled again (no second reduction) for its pre-twist.
+/// A case without overrides gives the model of the study as written, bit for bit.
+///
+/// # Errors
+/// As [`build_model_with`].
+pub fn build_case_models(study: &Study, cases: &[CaseSpec], progress: Progress) -> Result<Vec<Model>> {
+    let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+    let named = |case: &CaseSpec, what: &str| if case.name.is_empty() { what.to_string() } else { format!("case {}: {what}", case.name) };
     match &study.model {
         ModelSpec::Blade { refinement, cb_modes, damping, contact } => {
             let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
@@ -187,15 +230,73 @@ pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
             let fe = BuiltinBlade::build(&params)?;
             step.done_with(&format!(", {} DoFs", fe.n_dof()));
             let step = progress.step(format!("Craig-Bampton ({cb_modes} fixed-interface modes)"));
-            let cb = fe.reduce(*cb_modes)?;
+            let mut cb = fe.reduce(*cb_modes)?;
             step.done();
-            let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
-            let mut model = cb.to_model(Damping::default())?;
-            damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
-            Ok(model)
+            let base_static = cb.static_force.clone();
+            let mut models = Vec::with_capacity(cases.len());
+            for case in cases {
+                let c = case.contact(contact);
+                let case_params = BladeParams { mu: c.mu, kt1: c.kt1, kt2: c.kt2, kn: c.kn, ..params.clone() };
+                let law = case_params.contact_law();
+                for k in cb.contacts.iter_mut() {
+                    k.law = law.clone();
+                }
+                cb.static_force = if (c.kt1, c.kt2, c.kn) == (contact.kt1, contact.kt2, contact.kn) {
+                    base_static.clone()
+                } else {
+                    let step = progress.step(named(case, "the blade's pre-twist for its contact stiffnesses"));
+                    let fe_case = BuiltinBlade::build(&case_params)?;
+                    step.done();
+                    boundary_load(&fe_case.static_force, &fe_case.boundary_dofs(), base_static.len()).map_err(|e| with_key(&format!("cases ({})", case.name), e))?
+                };
+                let mut model = cb.to_model(Damping::default())?;
+                if let Some(scale) = case.static_scale {
+                    model.excitation.static_force.iter_mut().for_each(|f| *f *= scale);
+                }
+                case.damping(damping).apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
+                models.push(model);
+            }
+            Ok(models)
         }
-        ModelSpec::Fe(_) => build_fe_model(study, progress),
+        ModelSpec::Fe(_) => {
+            let read = read_fe_model(study, progress)?;
+            let undamped = reduce_fe_model_undamped(&read, progress)?;
+            let mut models = Vec::with_capacity(cases.len());
+            for case in cases {
+                let mut model = undamped.clone();
+                for k in model.contacts.iter_mut() {
+                    if let ContactLaw::Friction3D { kt1, kt2, kn, mu, .. } = &mut k.law {
+                        *mu = case.mu.unwrap_or(*mu);
+                        *kt1 = case.kt1.unwrap_or(*kt1);
+                        *kt2 = case.kt2.unwrap_or(*kt2);
+                        *kn = case.kn.unwrap_or(*kn);
+                    }
+                }
+                if let Some(scale) = case.static_scale {
+                    model.excitation.static_force.iter_mut().for_each(|f| *f *= scale);
+                }
+                case.damping(&read.damping).apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
+                models.push(model);
+            }
+            Ok(models)
+        }
     }
+}
+
+/// A load `f` on the FE DoFs that acts on the `boundary` DoFs only, in reduced coordinates of
+/// `n_reduced` (boundary first, then the modal ones, where it is zero): exact without the
+/// constraint modes, as the blade's own reduction takes it.
+fn boundary_load(f: &[f64], boundary: &[usize], n_reduced: usize) -> Result<Vec<f64>> {
+    let mut on_boundary = vec![false; f.len()];
+    for &d in boundary {
+        on_boundary[d] = true;
+    }
+    if f.iter().zip(&on_boundary).any(|(v, b)| *v != 0.0 && !b) {
+        return Err(JpError::invalid("static load", "acts on DoFs that are not boundary DoFs of the reduction"));
+    }
+    let mut out: Vec<f64> = boundary.iter().map(|&d| f[d]).collect();
+    out.resize(n_reduced, 0.0);
+    Ok(out)
 }
 
 /// Prefixes an error with the study key it came from (file reading).
@@ -297,11 +398,21 @@ pub fn read_fe_model(study: &Study, progress: Progress) -> Result<FeStudyModel> 
 /// # Errors
 /// Craig-Bampton's and [`Model::new`]'s errors.
 pub fn reduce_fe_model(study: &Study, read: &FeStudyModel, progress: Progress) -> Result<Model> {
-    let FeStudyModel { fe, reduction: spec, damping } = read;
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
+    let mut model = reduce_fe_model_undamped(read, progress)?;
+    read.damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
+    Ok(model)
+}
+
+/// [`reduce_fe_model`] before the study's damping (an FE damping matrix is reduced with the
+/// model): what the parameter cases share.
+///
+/// # Errors
+/// As [`reduce_fe_model`].
+pub fn reduce_fe_model_undamped(read: &FeStudyModel, progress: Progress) -> Result<Model> {
+    let FeStudyModel { fe, reduction: spec, .. } = read;
     let step = progress.step(format!("Craig-Bampton: {} DoFs, {} boundary nodes, {} fixed-interface modes", fe.n_dof(), spec.contacts.len() + spec.static_forces.len() + spec.harmonic_forces.len(), spec.cb_modes));
-    let mut model = fe.reduce(spec, Damping::default())?;
-    damping.apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
+    let model = fe.reduce(spec, Damping::default())?;
     step.done_with(&format!(", {} reduced DoFs", model.n_dof()));
     Ok(model)
 }
@@ -334,6 +445,7 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         complete: false,
         warnings: vec![format!("failed: {why}")],
         worst_error: None,
+        case: String::new(),
     }
 }
 
@@ -508,7 +620,7 @@ fn energy_errors(rows: &mut [SolverRow], energies_at_peak: &[(usize, Vec<f64>, V
 fn write_study_plots(
     study: &Study,
     out_dir: &Path,
-    summary: &RunSummary,
+    summary: &CaseRows,
     frf_series: &[(f64, Vec<Series>)],
     frf0_series: &[(f64, Vec<Series>)],
     energy_series: &[(f64, Vec<Series>)],
@@ -517,17 +629,19 @@ fn write_study_plots(
 ) -> Result<()> {
     let h = study.hbm.harmonics;
     let (len_unit, energy_unit) = units(study);
+    // a case's files are prefixed with its name
+    let file = |name: String| out_dir.join(format!("{}{name}", summary.prefix));
     let x1_label = format!("|X1| at the first output [{len_unit}]");
     for (level, series) in frf_series {
         let title = format!("First harmonic at the first output, alpha = alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x1_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
-        write_plot(&out_dir.join(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        write_plot(&file(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     let x0_label = format!("X0 at the first output [{len_unit}]");
     for (level, series) in frf0_series {
         let title = format!("Static term at the first output, alpha = alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x0_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
-        write_plot(&out_dir.join(format!("frf_x0_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        write_plot(&file(format!("frf_x0_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     for (level, series) in energy_series {
         let stuck = series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0));
@@ -538,7 +652,7 @@ fn write_study_plots(
         };
         let energy_label = format!("energy per cycle [{energy_unit}]");
         let spec = PlotSpec { title: &title, x_label: "contact node (study order)", y_label: &energy_label, log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
-        write_plot(&out_dir.join(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        write_plot(&file(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
     if !err_points.is_empty() {
         // the gamma study's points first (light), the levels' over them
@@ -560,7 +674,7 @@ fn write_study_plots(
         series.extend(err_points.into_iter().map(|(l, p)| Series::solver(format!("{l}, at each level"), p, false)));
         let title = format!("Predicted e*_1 vs actual e_1 at the FO resonance (all levels), H = {h}");
         let spec = PlotSpec { title: &title, x_label: "actual e_1", y_label: "predicted e*_1", log_x: true, log_y: true, diagonal: true, legend: Legend::LowerRight };
-        write_plot(&out_dir.join("predicted_vs_actual_error.svg"), &spec, &series)?;
+        write_plot(&file("predicted_vs_actual_error.svg".to_string()), &spec, &series)?;
         let mut by_solver: Vec<Series> = Vec::new();
         for r in summary.rows.iter().filter(|r| r.error_x1.is_some()) {
             let p = (r.level, r.error_x1.unwrap().max(1e-16));
@@ -575,7 +689,7 @@ fn write_study_plots(
         }
         let title = format!("Error of |X1| at the FO resonance vs excitation level, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "alpha / alpha_ST", y_label: "relative error of X1", log_x: true, log_y: true, diagonal: false, legend: Legend::UpperRight };
-        write_plot(&out_dir.join("error_vs_level.svg"), &spec, &by_solver)?;
+        write_plot(&file("error_vs_level.svg".to_string()), &spec, &by_solver)?;
     }
     for (level, series) in e_star_series.iter().filter(|(_, s)| !s.is_empty()) {
         let mut series = series.clone();
@@ -584,7 +698,7 @@ fn write_study_plots(
         series.push(Series::line(format!("threshold {threshold}"), vec![(lo, threshold), (hi, threshold)]).styled(Style { color: RGBColor(120, 120, 120), dash: Dash::Dashed, width: 1, marker: Marker::None, max_markers: 0 }));
         let title = format!("Predicted error e*_1 along the reduced sweeps, alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "predicted e*_1", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
-        write_plot(&out_dir.join(format!("predicted_error_vs_frequency_alpha_ST_x{level:e}.svg")), &spec, &series)?;
+        write_plot(&file(format!("predicted_error_vs_frequency_alpha_ST_x{level:e}.svg")), &spec, &series)?;
     }
     for &level in &study.forcing.levels {
         let rows: Vec<&BasisStudyRow> = summary.basis_study.iter().filter(|r| r.level == level).collect();
@@ -613,7 +727,7 @@ fn write_study_plots(
         }
         let title = format!("Error at the FO resonance vs basis size (gamma study), alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "n_1 (first-harmonic basis size)", y_label: "relative error", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
-        write_plot(&out_dir.join(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
+        write_plot(&file(format!("error_vs_basis_size_alpha_ST_x{level:e}.svg")), &spec, &series)?;
     }
 
     Ok(())
@@ -682,6 +796,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         complete: res.reached_end(),
         warnings,
         worst_error: None,
+        case: String::new(),
     });
     Ok(Some(FoPeak { point: p, warning, edge }))
 }
@@ -787,6 +902,7 @@ fn reduced_level(
         complete: res.reached_end(),
         warnings,
         worst_error: Some(adaptive.worst_error),
+        case: String::new(),
     };
     if let Some(FoPeak { point: fo, warning: fo_warning, edge: fo_edge }) = fo_peak {
         // the ROM at the full-order resonance frequency, from its nearest sweep point
@@ -886,10 +1002,22 @@ pub struct FoPeak {
 }
 
 /// What every unit of a study shares, built once (by rank 0 under MPI, which sends it to the
-/// others): the reduced (Craig-Bampton) model and the level reference, with what the summary
-/// says about them.
+/// others): each parameter case's reduced model (one Craig-Bampton reduction, the case's contact
+/// laws, damping and static load) and level reference, with what the summary says about them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Shared {
+    /// One per case of [`Study::case_list`] (one, unnamed, for a study without `[[cases]]`).
+    pub cases: Vec<CaseShared>,
+    pub build_seconds: f64,
+}
+
+/// A parameter case's model and level reference ([`Shared`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CaseShared {
+    /// The case's name (empty: the study without `[[cases]]`).
+    pub name: String,
+    /// Its overrides in words.
+    pub overrides: String,
     /// The model at unit dynamic scale (each level sets its own).
     pub model: Model,
     /// The model's `excitation.dynamic_scale` at each of the study's levels.
@@ -900,11 +1028,11 @@ pub struct Shared {
     pub stuck_limit_force: f64,
     pub level_reference: String,
     pub warnings: Vec<String>,
-    pub build_seconds: f64,
 }
 
-/// Builds what every unit shares ([`Shared`]): the model ([`build_model_with`]), the stuck mode
-/// for the band and the level reference, showing the stages on `progress`.
+/// Builds what every unit shares ([`Shared`]): the cases' models ([`build_case_models`]), and
+/// for each its stuck mode for the band and its level reference, showing the stages on
+/// `progress`.
 ///
 /// # Errors
 /// The model's errors; a level the reference cannot scale to.
@@ -912,38 +1040,45 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
     let h = study.hbm.harmonics;
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
-    let model = build_model_with(study, progress)?;
-    let step = progress.step("stuck mode and level reference");
-    let coords = ContactCoordinates::new(&model, h)?;
-    let omega_st = jprom::jp::prediction::stuck_mode(&coords, band)?.0;
-    let plan = AftPlan::new(h, study.hbm.nt)?;
-    let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
-    // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
-    let limit = stuck_limit(&coords, &static_z, omega_st)?;
-    step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
-    let mut warnings = Vec::new();
-    let stuck_mode_in_band = super::modes::in_band(omega_st / TWO_PI, (study.band.hz_start, study.band.hz_end));
-    if !stuck_mode_in_band {
-        // the cheap test failed: all stuck modes (dense, this path only) to say where they are
-        let band_hz = (study.band.hz_start, study.band.hz_end);
-        let warning = match jprom::model::modes::natural_modes(&model, jprom::model::modes::Boundary::Stuck) {
-            Ok(stuck) => super::modes::band_warning(&stuck, band_hz, omega_st / TWO_PI),
-            Err(e) => Some(super::modes::band_warning_without_modes(band_hz, omega_st / TWO_PI, &e)),
-        };
-        warnings.extend(warning);
+    let cases = study.case_list();
+    let models = build_case_models(study, &cases, progress)?;
+    let mut out = Vec::with_capacity(cases.len());
+    for (case, model) in cases.iter().zip(models) {
+        let step = progress.step(if case.name.is_empty() { "stuck mode and level reference".to_string() } else { format!("case {}: stuck mode and level reference", case.name) });
+        let coords = ContactCoordinates::new(&model, h)?;
+        let omega_st = jprom::jp::prediction::stuck_mode(&coords, band)?.0;
+        let plan = AftPlan::new(h, study.hbm.nt)?;
+        let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
+        // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
+        let limit = stuck_limit(&coords, &static_z, omega_st)?;
+        step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
+        let mut warnings = Vec::new();
+        let stuck_mode_in_band = super::modes::in_band(omega_st / TWO_PI, (study.band.hz_start, study.band.hz_end));
+        if !stuck_mode_in_band {
+            // the cheap test failed: all stuck modes (dense, this path only) to say where they are
+            let band_hz = (study.band.hz_start, study.band.hz_end);
+            let warning = match jprom::model::modes::natural_modes(&model, jprom::model::modes::Boundary::Stuck) {
+                Ok(stuck) => super::modes::band_warning(&stuck, band_hz, omega_st / TWO_PI),
+                Err(e) => Some(super::modes::band_warning_without_modes(band_hz, omega_st / TWO_PI, &e)),
+            };
+            let of_case = if case.name.is_empty() { String::new() } else { format!("case {}: ", case.name) };
+            warnings.extend(warning.map(|w| format!("{of_case}{w}")));
+        }
+        let scales = study.forcing.levels.iter().map(|&level| limit.scale_at(level)).collect::<Result<Vec<f64>>>()?;
+        out.push(CaseShared {
+            name: case.name.clone(),
+            overrides: case.describe(),
+            model,
+            scales,
+            omega_st,
+            stuck_mode_in_band,
+            alpha_st: limit.alpha,
+            stuck_limit_force: limit.force,
+            level_reference: limit.describe(),
+            warnings,
+        });
     }
-    let scales = study.forcing.levels.iter().map(|&level| limit.scale_at(level)).collect::<Result<Vec<f64>>>()?;
-    Ok(Shared {
-        model,
-        scales,
-        omega_st,
-        stuck_mode_in_band,
-        alpha_st: limit.alpha,
-        stuck_limit_force: limit.force,
-        level_reference: limit.describe(),
-        warnings,
-        build_seconds: t.elapsed().as_secs_f64(),
-    })
+    Ok(Shared { cases: out, build_seconds: t.elapsed().as_secs_f64() })
 }
 
 /// The ROMs a study asks for, in table order.
@@ -986,16 +1121,19 @@ impl<'a> UnitRunner<'a> {
         sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
         let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
         let run = Run { study, progress, hopts, band, sopts, plan, popts };
-        let levels = study.forcing.levels.iter().map(|_| std::sync::OnceLock::new()).collect();
+        let levels = (0..shared.cases.len() * study.forcing.levels.len()).map(|_| std::sync::OnceLock::new()).collect();
         Ok(UnitRunner { run, shared, kinds: rom_kinds(study), levels })
     }
 
-    /// The level's model (at its excitation level), contact coordinates and condensed system.
-    fn level(&self, i: usize) -> Result<&LevelSystems> {
-        self.levels[i]
+    /// The level's model (at its excitation level), contact coordinates and condensed system,
+    /// of case `case`.
+    fn level(&self, case: usize, i: usize) -> Result<&LevelSystems> {
+        let n_levels = self.run.study.forcing.levels.len();
+        self.levels[case * n_levels + i]
             .get_or_init(|| {
-                let mut model = self.shared.model.clone();
-                model.excitation.dynamic_scale = self.shared.scales[i];
+                let shared = &self.shared.cases[case];
+                let mut model = shared.model.clone();
+                model.excitation.dynamic_scale = shared.scales[i];
                 // the transformed forces carry the excitation level: built for this level
                 let coords = ContactCoordinates::new(&model, self.run.study.hbm.harmonics)?;
                 let condensed = CondensedSystem::new(&model, &self.run.hopts)?;
@@ -1013,8 +1151,10 @@ impl<'a> UnitRunner<'a> {
     /// (a sweep that fails is a row of the unit's output, as in a serial run).
     pub fn run(&self, unit: &Unit, fo: Option<&FoPeak>) -> Result<UnitOutput> {
         let level = unit.level;
-        let tag = format!("alpha_ST_x{level:e}");
-        let sys = self.level(unit.level_index)?;
+        // a case's files are prefixed with its name
+        let prefix = if unit.case.is_empty() { String::new() } else { format!("{}_", unit.case) };
+        let tag = format!("{prefix}alpha_ST_x{level:e}");
+        let sys = self.level(unit.case_index, unit.level_index)?;
         let mut c = Collected::default();
         let mut series = LevelSeries::default();
         let mut out = UnitOutput::default();
@@ -1035,6 +1175,12 @@ impl<'a> UnitRunner<'a> {
             }
         }
         out.rows = c.rows;
+        for r in &mut out.rows {
+            r.case.clone_from(&unit.case);
+        }
+        for r in &mut out.basis_study {
+            r.case.clone_from(&unit.case);
+        }
         out.energies_at_peak = c.energies_at_peak;
         out.err_points = c.err_points;
         out.files = c.files;
@@ -1072,7 +1218,8 @@ impl UnitOutput {
     /// The output of a unit that failed: one row saying which unit failed and why.
     pub fn failed(unit: &Unit, index: usize, reason: &str) -> Self {
         let why = format!("unit {index} ({}): {reason}", unit.describe());
-        UnitOutput { rows: vec![failed_row_because(unit.level, unit.kind.solver(), Vec::new(), &why)], ..UnitOutput::default() }
+        let row = SolverRow { case: unit.case.clone(), ..failed_row_because(unit.level, unit.kind.solver(), Vec::new(), &why) };
+        UnitOutput { rows: vec![row], ..UnitOutput::default() }
     }
 }
 
@@ -1084,74 +1231,117 @@ impl UnitOutput {
 pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: &[Unit], outputs: Vec<UnitOutput>) -> Result<RunSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
     let kinds = rom_kinds(study);
-    let mut c = Collected::default();
-    let (mut frf_series, mut frf0_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut rows: Vec<SolverRow> = Vec::new();
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
     let mut basis_study_seconds = 0.0;
     let mut outputs = outputs.into_iter().zip(study_units).peekable();
-    for (i, &level) in study.forcing.levels.iter().enumerate() {
-        let mut series = LevelSeries::default();
-        while let Some((out, _)) = outputs.next_if(|(_, u)| u.level_index == i) {
-            for (name, bytes) in &out.files {
-                jprom::io::write_file(&out_dir.join(name), |f| f.write_all(bytes))?;
-            }
-            let base = c.rows.len();
-            c.energies_at_peak.extend(out.energies_at_peak.into_iter().map(|(k, a, b)| (base + k, a, b)));
-            c.rows.extend(out.rows);
-            for (label, pts) in out.err_points {
-                match c.err_points.iter_mut().find(|(l, _)| *l == label) {
-                    Some((_, v)) => v.extend(pts),
-                    None => c.err_points.push((label, pts)),
+    // each case on its own (energies relative to the case's largest, its plots and
+    // basis_study.csv prefixed with its name), as if it were a study of its own
+    let mut case_plots = Vec::new();
+    for (ci, case) in shared.cases.iter().enumerate() {
+        let mut c = Collected::default();
+        let (mut frf_series, mut frf0_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut case_basis_study: Vec<BasisStudyRow> = Vec::new();
+        for (i, &level) in study.forcing.levels.iter().enumerate() {
+            let mut series = LevelSeries::default();
+            while let Some((out, _)) = outputs.next_if(|(_, u)| u.case_index == ci && u.level_index == i) {
+                for (name, bytes) in &out.files {
+                    jprom::io::write_file(&out_dir.join(name), |f| f.write_all(bytes))?;
                 }
+                let base = c.rows.len();
+                c.energies_at_peak.extend(out.energies_at_peak.into_iter().map(|(k, a, b)| (base + k, a, b)));
+                c.rows.extend(out.rows);
+                for (label, pts) in out.err_points {
+                    match c.err_points.iter_mut().find(|(l, _)| *l == label) {
+                        Some((_, v)) => v.extend(pts),
+                        None => c.err_points.push((label, pts)),
+                    }
+                }
+                series.frf.extend(out.frf);
+                series.frf0.extend(out.frf0);
+                series.energies.extend(out.energies);
+                series.e_stars.extend(out.e_stars);
+                case_basis_study.extend(out.basis_study);
+                basis_study_seconds += out.basis_study_seconds;
             }
-            series.frf.extend(out.frf);
-            series.frf0.extend(out.frf0);
-            series.energies.extend(out.energies);
-            series.e_stars.extend(out.e_stars);
-            basis_study.extend(out.basis_study);
-            basis_study_seconds += out.basis_study_seconds;
+            let plot = |v: Vec<SolverSeries>| v.into_iter().map(SolverSeries::series).collect::<Vec<Series>>();
+            frf_series.push((level, plot(series.frf)));
+            frf0_series.push((level, plot(series.frf0)));
+            energy_series.push((level, plot(series.energies)));
+            if !kinds.is_empty() {
+                e_star_series.push((level, plot(series.e_stars)));
+            }
         }
-        let plot = |v: Vec<SolverSeries>| v.into_iter().map(SolverSeries::series).collect::<Vec<Series>>();
-        frf_series.push((level, plot(series.frf)));
-        frf0_series.push((level, plot(series.frf0)));
-        energy_series.push((level, plot(series.energies)));
-        if !kinds.is_empty() {
-            e_star_series.push((level, plot(series.e_stars)));
-        }
+        let Collected { rows: mut case_rows, energies_at_peak, err_points, .. } = c;
+        energy_errors(&mut case_rows, &energies_at_peak);
+        let prefix = if case.name.is_empty() { String::new() } else { format!("{}_", case.name) };
+        case_plots.push((prefix, rows.len()..rows.len() + case_rows.len(), basis_study.len()..basis_study.len() + case_basis_study.len(), frf_series, frf0_series, energy_series, e_star_series, err_points));
+        rows.extend(case_rows);
+        basis_study.extend(case_basis_study);
     }
 
-    let Collected { mut rows, energies_at_peak, err_points, .. } = c;
-    energy_errors(&mut rows, &energies_at_peak);
     let incomplete = rows
         .iter()
         .filter(|r| !r.complete)
-        .map(|r| format!("{} at level {:e}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone())))
+        .map(|r| {
+            let of_case = if r.case.is_empty() { String::new() } else { format!(" of case {}", r.case) };
+            format!("{} at level {:e}{of_case}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone()))
+        })
         .collect();
+    let first = &shared.cases[0];
+    let named = !study.cases.is_empty();
     let summary = RunSummary {
-        model_dofs: shared.model.n_dof(),
-        contacts: shared.model.contacts.len(),
-        stuck_resonance_hz: shared.omega_st / TWO_PI,
-        stuck_mode_in_band: shared.stuck_mode_in_band,
-        alpha_st: shared.alpha_st,
-        stuck_limit_force: shared.stuck_limit_force,
-        level_reference: shared.level_reference.clone(),
+        model_dofs: first.model.n_dof(),
+        contacts: first.model.contacts.len(),
+        stuck_resonance_hz: first.omega_st / TWO_PI,
+        stuck_mode_in_band: first.stuck_mode_in_band,
+        alpha_st: first.alpha_st,
+        stuck_limit_force: first.stuck_limit_force,
+        level_reference: first.level_reference.clone(),
         incomplete,
-        warnings: shared.warnings.clone(),
+        warnings: shared.cases.iter().flat_map(|c| c.warnings.iter().cloned()).collect(),
         build_seconds: shared.build_seconds,
         length_unit: units(study).0.into(),
         energy_unit: units(study).1.into(),
         rows,
         basis_study,
         basis_study_seconds,
+        cases: if named {
+            shared
+                .cases
+                .iter()
+                .map(|c| CaseSummary {
+                    name: c.name.clone(),
+                    overrides: c.overrides.clone(),
+                    stuck_resonance_hz: c.omega_st / TWO_PI,
+                    stuck_mode_in_band: c.stuck_mode_in_band,
+                    alpha_st: c.alpha_st,
+                    stuck_limit_force: c.stuck_limit_force,
+                    level_reference: c.level_reference.clone(),
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
     };
     jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
-    if study.output.plots {
-        write_study_plots(study, out_dir, &summary, &frf_series, &frf0_series, &energy_series, &e_star_series, err_points)?;
-    }
-    if !summary.basis_study.is_empty() {
-        write_basis_study_csv(&out_dir.join("basis_study.csv"), &summary.basis_study)?;
+    for (prefix, rows, basis_rows, frf_series, frf0_series, energy_series, e_star_series, err_points) in case_plots {
+        let case = CaseRows { prefix: &prefix, rows: &summary.rows[rows], basis_study: &summary.basis_study[basis_rows] };
+        if study.output.plots {
+            write_study_plots(study, out_dir, &case, &frf_series, &frf0_series, &energy_series, &e_star_series, err_points)?;
+        }
+        if !case.basis_study.is_empty() {
+            write_basis_study_csv(&out_dir.join(format!("{prefix}basis_study.csv")), case.basis_study)?;
+        }
     }
     Ok(summary)
+}
+
+/// A case's part of the summary and the prefix of its files (empty without `[[cases]]`).
+struct CaseRows<'a> {
+    prefix: &'a str,
+    rows: &'a [SolverRow],
+    basis_study: &'a [BasisStudyRow],
 }
 
 /// [`run_study`] showing its stages on `progress`, one unit at a time ([`run_study_jobs`] with
@@ -1163,8 +1353,8 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
     run_study_jobs(study, out_dir, progress, 1)
 }
 
-/// Runs a study in `jobs` threads: the model, the stuck mode and the level reference once
-/// ([`build_shared`]), then its units ([`crate::units::study_units`]: at each level the
+/// Runs a study in `jobs` threads: each case's model, stuck mode and level reference once
+/// ([`build_shared`]), then its units ([`crate::units::study_units`]: per case, at each level the
 /// full-order sweep ([`full_order_level`]), each reduced model's self-correcting sweep
 /// ([`reduced_level`]) and the gamma study), dealt to the threads as they become free
 /// ([`crate::units::run_units_threads`]), then merged in unit order ([`merge_units`]): the
@@ -1188,26 +1378,45 @@ pub fn run_study_jobs(study: &Study, out_dir: &Path, progress: Progress, jobs: u
 /// The summary as a fixed-width text table.
 pub fn summary_table(s: &RunSummary) -> String {
     let alpha = &s.level_reference;
-    let mut out = format!(
-        "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, {alpha}, built in {:.1} s\n",
-        s.model_dofs, s.contacts, s.stuck_resonance_hz, s.build_seconds
-    );
-    out.push_str(&format!(
-        "stuck mode for the band (nearest its centre; levels and bases use it): {:.3} Hz, {}\n",
-        s.stuck_resonance_hz,
-        if s.stuck_mode_in_band { "in the band" } else { "outside the band (!)" }
-    ));
+    let in_band = |yes: bool| if yes { "in the band" } else { "outside the band (!)" };
+    let mut out = if s.cases.is_empty() {
+        let mut out = format!(
+            "model: {} DoFs (Craig-Bampton), {} contact nodes, stuck resonance {:.1} Hz, {alpha}, built in {:.1} s\n",
+            s.model_dofs, s.contacts, s.stuck_resonance_hz, s.build_seconds
+        );
+        out.push_str(&format!("stuck mode for the band (nearest its centre; levels and bases use it): {:.3} Hz, {}\n", s.stuck_resonance_hz, in_band(s.stuck_mode_in_band)));
+        out
+    } else {
+        // each case its own stuck mode and level reference
+        let mut out = format!("model: {} DoFs (Craig-Bampton), {} contact nodes, {} cases, built in {:.1} s\n", s.model_dofs, s.contacts, s.cases.len(), s.build_seconds);
+        for c in &s.cases {
+            out.push_str(&format!(
+                "case {} ({}): stuck mode for the band {:.3} Hz, {}, {}\n",
+                c.name,
+                c.overrides,
+                c.stuck_resonance_hz,
+                in_band(c.stuck_mode_in_band),
+                c.level_reference
+            ));
+        }
+        out
+    };
+    // with cases, a first column names the case of each row
+    let width = s.cases.iter().map(|c| c.name.len()).max().unwrap_or(0).max(4);
+    let case_col = |name: &str| if s.cases.is_empty() { String::new() } else { format!("{name:<width$} ") };
     for w in &s.warnings {
         out.push_str(&format!("(!) {w}\n"));
     }
     out.push_str(&format!(
-        "{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        "{}{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        case_col("case"),
         "a/a_ST", "solver", "n_h", "points", "time s", "basis s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
     ));
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            "{}{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            case_col(&r.case),
             r.level,
             r.solver,
             format!("{:?}", r.sizes),
@@ -1230,16 +1439,18 @@ pub fn summary_table(s: &RunSummary) -> String {
         out.push_str("(!) read with care:\n");
         for r in flagged {
             for w in &r.warnings {
-                out.push_str(&format!("  {} at a/a_ST = {:.1e}: {w}\n", r.solver, r.level));
+                let of_case = if r.case.is_empty() { String::new() } else { format!(" of case {}", r.case) };
+                out.push_str(&format!("  {} at a/a_ST = {:.1e}{of_case}: {w}\n", r.solver, r.level));
             }
         }
     }
     if !s.basis_study.is_empty() {
         out.push_str(&format!("error vs basis size at the FO resonance (basis.gamma_study, {:.1} s):\n", s.basis_study_seconds));
-        out.push_str(&format!("{:>10} {:<6} {:>8} {:>14} {:>9} {:>9} {:>9} {:>9}\n", "a/a_ST", "solver", "gamma", "n_h", "err X1", "err X0", "e*_1", "e_1"));
+        out.push_str(&format!("{}{:>10} {:<6} {:>8} {:>14} {:>9} {:>9} {:>9} {:>9}\n", case_col("case"), "a/a_ST", "solver", "gamma", "n_h", "err X1", "err X0", "e*_1", "e_1"));
         for r in &s.basis_study {
             out.push_str(&format!(
-                "{:>10.1e} {:<6} {:>8.1e} {:>14} {:>9} {:>9} {:>9} {:>9}\n",
+                "{}{:>10.1e} {:<6} {:>8.1e} {:>14} {:>9} {:>9} {:>9} {:>9}\n",
+                case_col(&r.case),
                 r.level,
                 r.solver,
                 r.gamma,

@@ -104,6 +104,21 @@
 //! kn = 2.0e4
 //! ```
 //!
+//! Parameter cases: the same model with other contact parameters, damping ratio or static
+//! load, each case running every level and solver ([`CaseSpec`]; output files prefixed with
+//! the case's name):
+//!
+//! ```toml
+//! [[cases]]
+//! name = "mu0.2"
+//! mu = 0.2
+//! [[cases]]
+//! name = "kn-high"
+//! kn = 4.0e4
+//! damping_ratio = 0.003
+//! static_scale = 1.5
+//! ```
+//!
 //! `jprom check` opens every file the study names (Matrix Market headers and size lines, not
 //! the entries; the DoF map; the CalculiX `.dof` and deck) and checks every node id, node set
 //! and frame against the model ([`crate::check`]); it prints the defaults it applied.
@@ -137,6 +152,85 @@ pub struct Study {
     pub solvers: SolverSpec,
     #[serde(default)]
     pub output: OutputSpec,
+    /// Parameter cases (`[[cases]]`): the same model with other contact parameters, damping
+    /// ratio or static load; empty: the study as written is the one case.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cases: Vec<CaseSpec>,
+}
+
+/// A parameter case (`[[cases]]`): the study's model with these overrides; keys not given keep
+/// the study's values. Every case shares the Craig-Bampton reduction (the contact laws do not
+/// enter it); each has its own level reference (`alpha_ST` depends on the contact stiffnesses,
+/// the damping and the static load). Its output files are prefixed with `name` and `_`.
+///
+/// ```toml
+/// [[cases]]
+/// name = "mu0.2"            # letters, digits, '-', '_', '.' (not first); unique
+/// mu = 0.2                  # model.contact.mu (FE models: every [[model.contacts]] set's mu)
+/// # kt1, kt2, kn likewise
+/// # damping_ratio = 0.003   # model.damping_ratio (ratio_at_centre; other damping forms kept)
+/// # static_scale = 1.5      # multiplies the static load f_E^0 (the blade's pre-twist preload)
+/// ```
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CaseSpec {
+    pub name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kt1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kt2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kn: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_ratio: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_scale: Option<f64>,
+}
+
+impl CaseSpec {
+    /// The study as written: no name (no file prefix), no override.
+    pub fn base() -> Self {
+        CaseSpec { name: String::new(), mu: None, kt1: None, kt2: None, kn: None, damping_ratio: None, static_scale: None }
+    }
+
+    /// The prefix of the case's output files: `name_`, or nothing for the study as written.
+    pub fn prefix(&self) -> String {
+        if self.name.is_empty() {
+            String::new()
+        } else {
+            format!("{}_", self.name)
+        }
+    }
+
+    /// `mu = 0.2, kn = 3e4`: the overrides, in words (`the study's parameters` if none).
+    pub fn describe(&self) -> String {
+        let v: Vec<String> = [("mu", self.mu), ("kt1", self.kt1), ("kt2", self.kt2), ("kn", self.kn), ("damping_ratio", self.damping_ratio), ("static_scale", self.static_scale)]
+            .into_iter()
+            .filter_map(|(k, v)| v.map(|v| format!("{k} = {v}")))
+            .collect();
+        if v.is_empty() {
+            "the study's parameters".into()
+        } else {
+            v.join(", ")
+        }
+    }
+
+    /// Whether `name` is a safe file-name part: 1 to 64 letters, digits, `-`, `_`, `.`, not
+    /// starting with `.` or `-`.
+    fn name_problem(name: &str) -> Option<String> {
+        if name.is_empty() || name.len() > 64 {
+            return Some(format!("must have 1 to 64 characters, got {:?}", name));
+        }
+        if name.starts_with('.') || name.starts_with('-') {
+            return Some(format!("must not start with '.' or '-', got {name:?}"));
+        }
+        if let Some(c) = name.chars().find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))) {
+            return Some(format!("may hold letters, digits, '-', '_' and '.' only (it prefixes file names), got {c:?} in {name:?}"));
+        }
+        None
+    }
 }
 
 /// Where the structure comes from. Read through the flat table [`RawModel`] (so that a bad
@@ -1110,7 +1204,71 @@ impl Study {
         if !(self.solvers.full_order || self.solvers.fr || self.solvers.nlr) {
             return bad("solvers", "enable at least one of full_order, fr, nlr".into());
         }
+        self.check_cases()
+    }
+
+    /// `[[cases]]`: names safe and unique, values as the keys they override.
+    fn check_cases(&self) -> std::result::Result<(), (String, String)> {
+        let bad = |key: String, reason: String| Err((key, reason));
+        for (i, case) in self.cases.iter().enumerate() {
+            let key = |k: &str| format!("cases[{i}].{k}");
+            if let Some(reason) = CaseSpec::name_problem(&case.name) {
+                return bad(key("name"), reason);
+            }
+            if let Some(j) = self.cases[..i].iter().position(|c| c.name == case.name) {
+                return bad(key("name"), format!("{:?} is already the name of cases[{j}] (names prefix the output files)", case.name));
+            }
+            match &self.model {
+                ModelSpec::Blade { refinement, contact, .. } => {
+                    // the library's own rules for the blade's contact law (> 0)
+                    let c = case.contact(contact);
+                    let params = BladeParams { refinement: *refinement, mu: c.mu, kt1: c.kt1, kt2: c.kt2, kn: c.kn, ..Default::default() };
+                    if let Err(JpError::InvalidValue { what, reason }) = params.validate() {
+                        if let Some(k @ ("mu" | "kt1" | "kt2" | "kn")) = what.strip_prefix("blade.") {
+                            return bad(key(k), reason);
+                        }
+                    }
+                }
+                ModelSpec::Fe(_) => {
+                    for (k, v) in [("mu", case.mu), ("kt1", case.kt1), ("kt2", case.kt2), ("kn", case.kn)] {
+                        if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                            return bad(key(k), format!("must be finite and >= 0, got {v}"));
+                        }
+                    }
+                }
+            }
+            if let Some(z) = case.damping_ratio.filter(|z| !(z.is_finite() && *z >= 0.0)) {
+                return bad(key("damping_ratio"), format!("must be finite and >= 0, got {z}"));
+            }
+            if let Some(s) = case.static_scale.filter(|s| !(s.is_finite() && *s > 0.0)) {
+                return bad(key("static_scale"), format!("must be finite and > 0, got {s}"));
+            }
+        }
         Ok(())
+    }
+
+    /// The study's cases in order: its `[[cases]]`, or the study as written ([`CaseSpec::base`]).
+    pub fn case_list(&self) -> Vec<CaseSpec> {
+        if self.cases.is_empty() {
+            vec![CaseSpec::base()]
+        } else {
+            self.cases.clone()
+        }
+    }
+}
+
+impl CaseSpec {
+    /// The blade's contact parameters `base` with the case's overrides.
+    pub fn contact(&self, base: &ContactSpec) -> ContactSpec {
+        ContactSpec { mu: self.mu.unwrap_or(base.mu), kt1: self.kt1.unwrap_or(base.kt1), kt2: self.kt2.unwrap_or(base.kt2), kn: self.kn.unwrap_or(base.kn) }
+    }
+
+    /// The damping `base` with the case's `damping_ratio` as its `ratio_at_centre`.
+    pub fn damping(&self, base: &DampingSpec) -> DampingSpec {
+        match self.damping_ratio {
+            Some(z) => DampingSpec { ratio_at_centre: Some(z), ..base.clone() },
+            None => base.clone(),
+        }
     }
 }
 
@@ -1120,6 +1278,7 @@ fn study_error(line: usize, key: &str, reason: &str) -> JpError {
 }
 
 fn parse_error(text: &str, offset: Option<usize>, reason: &str) -> JpError {
-    let line = offset.map(|o| text[..o.min(text.len())].lines().count().max(1)).unwrap_or(0);
+    // (an offset at the start of a line is on that line)
+    let line = offset.map(|o| text.as_bytes()[..o.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1).unwrap_or(0);
     JpError::Parse { path: "<study>".into(), line, reason: reason.to_string() }
 }

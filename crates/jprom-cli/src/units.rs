@@ -1,12 +1,13 @@
-//! A study as independent work units: at each excitation level (in study order) the full-order
+//! A study as independent work units: for each parameter case (`[[cases]]`, in study order; a
+//! study without cases is one case), at each excitation level (in study order) the full-order
 //! sweep, each reduced model's self-correcting sweep (FR, then NLR) and the gamma study, in the
-//! order a serial run computes them. Study files have no parameter cases, so levels x solvers
-//! are all the units there are.
+//! order a serial run computes them: cases x levels x solvers.
 //!
-//! Every unit runs on its own from the study's shared inputs ([`crate::run::Shared`]: the
-//! Craig-Bampton model and the level reference, built once). The ROM and gamma-study units of a
-//! level also take the level's full-order peak (their errors are taken there), so they wait for
-//! the level's full-order unit; nothing else orders them. [`Dealer`] hands out the first unit in
+//! Every unit runs on its own from the study's shared inputs ([`crate::run::Shared`]: each
+//! case's model on the one Craig-Bampton reduction, and its level reference, built once). The
+//! ROM and gamma-study units of a level also take the level's full-order peak (their errors are
+//! taken there), so they wait for the full-order unit of their case and level; nothing else
+//! orders them. [`Dealer`] hands out the first unit in
 //! study order whose full-order unit is done, to threads ([`run_units_threads`], `jprom run
 //! --jobs N`) or to MPI ranks (`crate::mpi_run`, feature `mpi`); the outputs are merged in unit
 //! order ([`crate::run::merge_units`]), so the CSVs do not depend on who ran what, or when.
@@ -49,9 +50,13 @@ impl UnitKind {
     }
 }
 
-/// One unit: a solver at a level.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// One unit: a solver at a level of a case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Unit {
+    /// Index of the case in [`Study::case_list`].
+    pub case_index: usize,
+    /// The case's name (empty for a study without `[[cases]]`).
+    pub case: String,
     /// Index of the level in `forcing.levels`.
     pub level_index: usize,
     /// The level, `alpha / alpha_ST`.
@@ -62,9 +67,13 @@ pub struct Unit {
 }
 
 impl Unit {
-    /// `FR at level 1e-1`.
+    /// `FR at level 1e-1` (with cases: `FR at level 1e-1 of case mu0.2`).
     pub fn describe(&self) -> String {
-        format!("{} at level {:e}", self.kind.solver(), self.level)
+        if self.case.is_empty() {
+            format!("{} at level {:e}", self.kind.solver(), self.level)
+        } else {
+            format!("{} at level {:e} of case {}", self.kind.solver(), self.level, self.case)
+        }
     }
 }
 
@@ -72,17 +81,20 @@ impl Unit {
 pub fn study_units(study: &Study) -> Vec<Unit> {
     let mut units = Vec::new();
     let roms: Vec<UnitKind> = [(UnitKind::Fr, study.solvers.fr), (UnitKind::Nlr, study.solvers.nlr)].into_iter().filter(|k| k.1).map(|k| k.0).collect();
-    for (level_index, &level) in study.forcing.levels.iter().enumerate() {
-        let mut after = None;
-        if study.solvers.full_order {
-            after = Some(units.len());
-            units.push(Unit { level_index, level, kind: UnitKind::FullOrder, after: None });
-        }
-        for &kind in &roms {
-            units.push(Unit { level_index, level, kind, after });
-        }
-        if study.solvers.full_order && !roms.is_empty() && !study.basis.gamma_study.is_empty() {
-            units.push(Unit { level_index, level, kind: UnitKind::GammaStudy, after });
+    for (case_index, case) in study.case_list().into_iter().enumerate() {
+        let unit = |level_index: usize, level: f64, kind: UnitKind, after: Option<usize>| Unit { case_index, case: case.name.clone(), level_index, level, kind, after };
+        for (level_index, &level) in study.forcing.levels.iter().enumerate() {
+            let mut after = None;
+            if study.solvers.full_order {
+                after = Some(units.len());
+                units.push(unit(level_index, level, UnitKind::FullOrder, None));
+            }
+            for &kind in &roms {
+                units.push(unit(level_index, level, kind, after));
+            }
+            if study.solvers.full_order && !roms.is_empty() && !study.basis.gamma_study.is_empty() {
+                units.push(unit(level_index, level, UnitKind::GammaStudy, after));
+            }
         }
     }
     units

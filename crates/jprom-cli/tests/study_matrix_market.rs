@@ -259,3 +259,29 @@ fn bad_matrix_market_studies_name_the_key() {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_jprom")).args(["check", path.to_str().unwrap()]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// Parameter cases on an FE model: a case's `mu` and `kn` replace every contact set's (its
+/// `kt1`, `kt2`, `n0` kept), `static_scale` multiplies the `[[forcing.static]]` loads, and the
+/// reduced matrices are the base case's (one Craig-Bampton reduction).
+#[test]
+fn matrix_market_cases_override_every_contact_set() {
+    let fe = coarse_blade();
+    let cases = "[[cases]]\nname = \"base\"\n[[cases]]\nname = \"m\"\nmu = 0.25\nkn = 3.0e4\nstatic_scale = 1.5\ndamping_ratio = 0.003\n";
+    let (path, _) = export(&fe, &scratch("cases"), cases);
+    let study = Study::from_file(&path).unwrap();
+    let models = jprom_cli::run::build_case_models(&study, &study.case_list(), jprom_cli::progress::Progress::Quiet).unwrap();
+    let plain = build_model(&Study { cases: Vec::new(), ..study.clone() }).unwrap();
+    assert_eq!(serde_json::to_string(&models[0]).unwrap(), serde_json::to_string(&plain).unwrap(), "the base case is the study without cases");
+    let (base, m) = (&models[0], &models[1]);
+    assert_eq!(max_abs_diff(&m.stiffness, &base.stiffness).0, 0.0);
+    assert_eq!(max_abs_diff(&m.mass, &base.mass).0, 0.0);
+    assert_eq!(m.contacts.len(), base.contacts.len());
+    for (a, b) in m.contacts.iter().zip(&base.contacts) {
+        let (ContactLaw::Friction3D { kt1, kt2, kn, mu, n0 }, ContactLaw::Friction3D { kt1: kt1b, kt2: kt2b, n0: n0b, .. }) = (&a.law, &b.law) else { panic!("3D laws") };
+        assert_eq!((*mu, *kn), (0.25, 3.0e4));
+        assert_eq!((kt1, kt2, n0), (kt1b, kt2b, n0b));
+    }
+    let scaled: Vec<f64> = base.excitation.static_force.iter().map(|f| 1.5 * f).collect();
+    assert_eq!(m.excitation.static_force, scaled);
+    assert!(m.damping.stiffness_coeff > 1.4 * base.damping.stiffness_coeff, "damping_ratio 0.003 vs 0.002: {:?} vs {:?}", m.damping, base.damping);
+}
