@@ -258,3 +258,29 @@ pub fn examples_model() -> Model {
     let law = ContactLaw::Friction3D { kt1: 3.0e4, kt2: 3.0e4, kn: 5.0e4, mu: 0.5, n0: 20.0 };
     Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 }, exc, vec![Contact::ground_3d([3, 4, 5], IDENTITY_FRAME, law)], vec![0, 3]).unwrap()
 }
+
+/// `n` unit masses in a chain of unit springs, the first tied to ground, each with a Jenkins
+/// element (kt = 0.5, slip force `slip`) to ground, or to the previous mass when `relative`
+/// (NLvib's chain: q1 to ground, q2 - q1, ...); the last mass driven at `force`, stiffness-
+/// proportional damping 0.01. `K` is tridiagonal: at H >= 3 and n >= 150 the full-order system
+/// is stored sparse.
+pub fn jenkins_chain(n: usize, slip: f64, force: f64, relative: bool) -> Model {
+    let mut k = Mat::<f64>::zeros(n, n);
+    k[(0, 0)] += 1.0;
+    for i in 0..n - 1 {
+        k[(i, i)] += 1.0;
+        k[(i + 1, i + 1)] += 1.0;
+        k[(i, i + 1)] -= 1.0;
+        k[(i + 1, i)] -= 1.0;
+    }
+    let mut f1 = vec![0.0; n];
+    f1[n - 1] = force;
+    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+    let mut model = Model::new(Mat::identity(n, n), k, Damping { mass_coeff: 0.0, stiffness_coeff: 0.01 }, exc, Vec::new(), vec![n - 1]).unwrap();
+    for i in 0..n {
+        let b = (relative && i > 0).then(|| i - 1);
+        model.contacts.push(Contact::jenkins(i, b, 0.5, slip, 1.0));
+    }
+    model.validate().unwrap();
+    model
+}

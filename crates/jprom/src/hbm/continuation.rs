@@ -42,13 +42,13 @@
 //! * The point that passes `omega_end` is replaced by a fixed-frequency solve at `omega_end`
 //!   (kept as it is if that solve fails: it is converged, just past the end).
 
-use super::newton::{self, NewtonSettings, NonlinearProblem};
+use super::newton::{self, Evaluation, NewtonSettings, NonlinearProblem};
 use super::residual::{evaluate, linear_residual, ResidualWorkspace};
 use super::solve::{finish_point, newton, plan_for, reference_force, AtFrequency, NewtonOutcome};
 use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
-use crate::linalg::{norm2, Matrix, MatrixLu, SymbolicCache};
+use crate::linalg::{norm2, Matrix, MatrixLu};
 use std::ops::ControlFlow;
 
 /// Most retries of one step at half the length because its tangent turned by more than
@@ -128,7 +128,7 @@ impl Linearisation {
 fn tangent(lz: &Linearisation, orient: &[f64], m: Metric, omega: f64) -> Result<Vec<f64>> {
     let n = lz.jz.nrows();
     let b = lz.bordered(&m.apply(orient))?;
-    let lu = MatrixLu::new(&b, &format!("continuation tangent system at omega = {omega}"), &mut SymbolicCache::new())?;
+    let mut lu = MatrixLu::new(&b, &format!("continuation tangent system at omega = {omega}"))?;
     let mut rhs = vec![0.0; n + 1];
     rhs[n] = 1.0;
     m.unit(&lu.solve(&rhs)).ok_or_else(|| JpError::singular(format!("continuation tangent at omega = {omega}")))
@@ -185,7 +185,7 @@ impl Corrector<'_> {
 }
 
 impl NonlinearProblem for Corrector<'_> {
-    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool, out: &mut Evaluation) -> Result<()> {
         let n = y.len() - 1;
         let (mut r, top) = self.linearise(y, want_jacobian)?;
         let (g, row) = match self.constraint {
@@ -200,8 +200,9 @@ impl NonlinearProblem for Corrector<'_> {
         };
         r.push(g / self.ds);
         let row: Vec<f64> = row.iter().map(|v| v / self.ds).collect();
-        let jac = top.map(|lz| lz.bordered(&row)).transpose()?;
-        Ok((r, jac))
+        out.jac = top.map(|lz| lz.bordered(&row)).transpose()?;
+        out.r = r;
+        Ok(())
     }
     fn converged(&self, r: &[f64], tolerance: f64) -> bool {
         let n = r.len() - 1;

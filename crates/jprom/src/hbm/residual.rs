@@ -14,8 +14,8 @@
 use super::{ContactMap, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::aft::{evaluate_contacts, AftPlan, ContactCycle, ContactForces};
 use crate::error::{JpError, Result};
-use crate::linalg::sparse::sparse_from_triplets_in;
-use crate::linalg::{sparse_from_triplets, Matrix};
+use crate::linalg::sparse::{check_triplets, sparse_from_triplets_in};
+use crate::linalg::{sparse_from_triplets, Matrix, SparseMat};
 use faer::{Accum, Mat, Par};
 
 /// Scratch memory of [`evaluate`], reused across Newton iterations.
@@ -23,8 +23,66 @@ use faer::{Accum, Mat, Par};
 pub struct ResidualWorkspace {
     w_all: Vec<f64>,
     triplets: Vec<(usize, usize, f64)>,
+    assembly: Option<SparseAssembly>,
     forces: ContactForces,
     contact_force_norm: f64,
+}
+
+/// The pattern of a sparse HBM Jacobian and the slot each generated entry (of `D`, then of the
+/// contact blocks, always in the same order) is summed into: built at the first evaluation,
+/// then every evaluation refills the values of a Jacobian with this pattern in place.
+struct SparseAssembly {
+    /// `(row, col)` of every generated entry, in generation order
+    keys: Vec<(usize, usize)>,
+    slot: Vec<usize>,
+    template: SparseMat,
+}
+
+impl SparseAssembly {
+    /// Whether the entries `t` are the ones this assembly was built for.
+    fn fits(&self, n: usize, t: &[(usize, usize, f64)]) -> bool {
+        self.template.nrows() == n && self.keys.len() == t.len() && self.keys.iter().zip(t).all(|(k, e)| k.0 == e.0 && k.1 == e.1)
+    }
+
+    fn new(n: usize, t: &[(usize, usize, f64)]) -> Result<Self> {
+        // the pattern: entries sorted by column then row (stable: duplicates keep generation order)
+        let mut order: Vec<usize> = (0..t.len()).collect();
+        order.sort_by_key(|&k| (t[k].1, t[k].0));
+        let mut sorted: Vec<(usize, usize, f64)> = order.iter().map(|&k| (t[k].0, t[k].1, 0.0)).collect();
+        let template = sparse_from_triplets_in(n, n, &mut sorted)?;
+        let (cp, ri) = (template.as_ref().symbolic().col_ptr().to_vec(), template.as_ref().symbolic().row_idx().to_vec());
+        let mut slot = vec![0; t.len()];
+        let mut pos = 0;
+        for &k in &order {
+            let (i, j) = (t[k].0, t[k].1);
+            // sorted entries are visited in pattern order: the slot only moves forward
+            while !(pos >= cp[j] && pos < cp[j + 1] && ri[pos] == i) {
+                pos += 1;
+            }
+            slot[k] = pos;
+        }
+        Ok(SparseAssembly { keys: t.iter().map(|e| (e.0, e.1)).collect(), slot, template })
+    }
+
+    /// Sums the entries `t` into `jac` (given this assembly's pattern first if it has another).
+    fn assemble(&self, t: &[(usize, usize, f64)], jac: &mut Option<Matrix>) {
+        let same = match jac {
+            Some(Matrix::Sparse(m)) => {
+                let (a, b) = (m.as_ref().symbolic(), self.template.as_ref().symbolic());
+                a.nrows() == b.nrows() && a.col_ptr() == b.col_ptr() && a.row_idx() == b.row_idx()
+            }
+            _ => false,
+        };
+        if !same {
+            *jac = Some(Matrix::Sparse(self.template.clone()));
+        }
+        let Some(Matrix::Sparse(m)) = jac.as_mut() else { unreachable!("set above") };
+        let v = m.val_mut();
+        v.iter_mut().for_each(|x| *x = 0.0);
+        for (e, &k) in t.iter().zip(&self.slot) {
+            v[k] += e.2;
+        }
+    }
 }
 
 impl ResidualWorkspace {
@@ -65,7 +123,15 @@ pub(crate) fn check_linear_part(layout: &HarmonicLayout, lin: &LinearPart) -> Re
 
 /// `D z - f` (the linear residual), in the layout of `z`.
 pub fn linear_residual(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64]) -> Vec<f64> {
-    let mut r = vec![0.0; layout.total()];
+    let mut r = Vec::new();
+    linear_residual_into(layout, lin, z, &mut r);
+    r
+}
+
+/// `r = D z - f`, reusing `r`'s storage.
+fn linear_residual_into(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64], r: &mut Vec<f64>) {
+    r.clear();
+    r.resize(layout.total(), 0.0);
     let n0 = layout.size(0);
     lin.d0.mul_add(&z[..n0], 1.0, &mut r[..n0]);
     for (ri, f) in r[..n0].iter_mut().zip(&lin.f0) {
@@ -77,7 +143,7 @@ pub fn linear_residual(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64]) -> 
         let (re, im) = (&lin.dh_re[h - 1], &lin.dh_im[h - 1]);
         let (zc, zs) = (&z[oc..oc + n], &z[os..os + n]);
         // [Re D  Im D; -Im D  Re D] [zc; zs]
-        let (rc, rs) = split_pair(&mut r, oc, os, n);
+        let (rc, rs) = split_pair(r, oc, os, n);
         re.mul_add(zc, 1.0, rc);
         im.mul_add(zs, 1.0, rc);
         im.mul_add(zc, -1.0, rs);
@@ -87,7 +153,6 @@ pub fn linear_residual(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64]) -> 
             rs[i] -= lin.fh_sin[h - 1][i];
         }
     }
-    r
 }
 
 /// The two disjoint ranges `[a, a + n)` and `[b, b + n)` of `r` (`a + n <= b`).
@@ -127,6 +192,13 @@ pub fn linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart) -> Matrix {
         return Matrix::Sparse(sparse_from_triplets(nt, nt, t).expect("linear part entries are in range and finite"));
     }
     let mut jac = Mat::<f64>::zeros(nt, nt);
+    fill_linear_jacobian(layout, lin, &mut jac);
+    Matrix::Dense(jac)
+}
+
+/// Writes the dense linear Jacobian `D` into `jac` (`N_tot` square; every entry written).
+fn fill_linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart, jac: &mut Mat<f64>) {
+    jac.fill(0.0);
     lin.d0.for_each_entry(|i, j, v| jac[(i, j)] = v);
     for h in 1..=layout.harmonics {
         let (oc, os) = (layout.cos_offset(h), layout.sin_offset(h));
@@ -139,7 +211,6 @@ pub fn linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart) -> Matrix {
             jac[(os + i, oc + j)] = -v;
         });
     }
-    Matrix::Dense(jac)
 }
 
 /// Contact coordinates' harmonics `w_all` (harmonic-major, `(2H + 1) n_w`) from `z`.
@@ -198,16 +269,16 @@ fn scatter_contact_force(system: &dyn HarmonicSystem, force: &[f64], r: &mut [f6
 fn contact_jacobian_triplets(system: &dyn HarmonicSystem, forces: &ContactForces, out: &mut Vec<(usize, usize, f64)>) {
     let layout = system.layout();
     let n_coeffs = 2 * layout.harmonics + 1;
-    let coeff_off: Vec<usize> = (0..n_coeffs).map(|k| layout.coeff_range(k).0).collect();
+    let coeff_off = |k: usize| layout.coeff_range(k).0;
     for (c, law) in system.contact_laws().iter().enumerate() {
         let d = law.dim();
         let n = d * n_coeffs;
         let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + n * n];
         let o = system.contact_offsets()[c];
         for col in 0..n {
-            let gcol = coeff_off[col / d] + o + col % d;
+            let gcol = coeff_off(col / d) + o + col % d;
             for row in 0..n {
-                out.push((coeff_off[row / d] + o + row % d, gcol, block[row + col * n]));
+                out.push((coeff_off(row / d) + o + row % d, gcol, block[row + col * n]));
             }
         }
     }
@@ -220,7 +291,7 @@ fn scatter_contact_jacobian(system: &dyn HarmonicSystem, forces: &ContactForces,
     let n_coeffs = 2 * layout.harmonics + 1;
     let laws = system.contact_laws();
     let offsets = system.contact_offsets();
-    let coeff_off: Vec<usize> = (0..n_coeffs).map(|k| layout.coeff_range(k).0).collect();
+    let coeff_off = |k: usize| layout.coeff_range(k).0;
     let leading = (0..=layout.harmonics).all(|h| matches!(system.contact_map(h), ContactMap::Leading));
     if leading {
         for (c, law) in laws.iter().enumerate() {
@@ -231,12 +302,12 @@ fn scatter_contact_jacobian(system: &dyn HarmonicSystem, forces: &ContactForces,
             for kc in 0..n_coeffs {
                 for ic in 0..d {
                     let col = kc * d + ic;
-                    let gcol = coeff_off[kc] + o + ic;
+                    let gcol = coeff_off(kc) + o + ic;
                     for kr in 0..n_coeffs {
                         for ir in 0..d {
                             let v = block[kr * d + ir + col * n];
                             if v != 0.0 {
-                                jac[(coeff_off[kr] + o + ir, gcol)] += v;
+                                jac[(coeff_off(kr) + o + ir, gcol)] += v;
                             }
                         }
                     }
@@ -306,37 +377,74 @@ pub fn evaluate(
     want_jacobian: bool,
     ws: &mut ResidualWorkspace,
 ) -> Result<(Vec<f64>, Option<Matrix>)> {
+    let (mut r, mut jac) = (Vec::new(), None);
+    evaluate_into(system, lin, plan, z, want_jacobian, ws, &mut r, &mut jac)?;
+    Ok((r, if want_jacobian { jac } else { None }))
+}
+
+/// [`evaluate`] into `r` and, when `want_jacobian`, `jac`, reusing their storage: a Jacobian
+/// of the same storage and size (for a sparse one, the same pattern) is refilled in place, so
+/// that the Newton iterations of a solve do not allocate (`jac` is left as it was when no
+/// Jacobian is asked for).
+///
+/// # Errors
+/// As [`evaluate`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn evaluate_into(
+    system: &dyn HarmonicSystem,
+    lin: &LinearPart,
+    plan: Option<&AftPlan>,
+    z: &[f64],
+    want_jacobian: bool,
+    ws: &mut ResidualWorkspace,
+    r: &mut Vec<f64>,
+    jac: &mut Option<Matrix>,
+) -> Result<()> {
     let layout = system.layout();
     if z.len() != layout.total() {
         return Err(JpError::bad_size("HBM unknowns z", layout.total(), z.len()));
     }
     check_linear_part(layout, lin)?;
-    let mut r = linear_residual(layout, lin, z);
+    linear_residual_into(layout, lin, z, r);
     let leading = (0..=layout.harmonics).all(|h| matches!(system.contact_map(h), ContactMap::Leading));
-    // a sparse system's Jacobian is assembled once from the entries of D and of the contacts
+    // a sparse system's Jacobian is assembled from the entries of D and of the contacts
     let sparse = want_jacobian && is_sparse(lin) && leading;
-    let mut jac = (want_jacobian && !sparse).then(|| linear_jacobian(layout, lin).into_dense());
-    ws.contact_force_norm = 0.0;
-    if system.contact_laws().is_empty() {
-        let jac = if sparse { Some(linear_jacobian(layout, lin)) } else { jac.map(Matrix::Dense) };
-        return Ok((r, jac));
+    let nt = layout.total();
+    if want_jacobian && !sparse {
+        if !matches!(jac, Some(Matrix::Dense(m)) if m.nrows() == nt && m.ncols() == nt) {
+            *jac = Some(Matrix::Dense(Mat::zeros(nt, nt)));
+        }
+        let Some(Matrix::Dense(m)) = jac.as_mut() else { unreachable!("set above") };
+        fill_linear_jacobian(layout, lin, m);
     }
-    contact_forces_at(system, plan, z, want_jacobian, false, ws)?;
-    ws.contact_force_norm = scatter_contact_force(system, &ws.forces.force, &mut r);
+    ws.contact_force_norm = 0.0;
+    let contacts = !system.contact_laws().is_empty();
+    if contacts {
+        contact_forces_at(system, plan, z, want_jacobian, false, ws)?;
+        ws.contact_force_norm = scatter_contact_force(system, &ws.forces.force, r);
+    }
     if sparse {
-        let nt = layout.total();
         let mut t = std::mem::take(&mut ws.triplets);
         t.clear();
         linear_triplets(layout, lin, &mut t);
-        contact_jacobian_triplets(system, &ws.forces, &mut t);
-        let j = sparse_from_triplets_in(nt, nt, &mut t);
+        if contacts {
+            contact_jacobian_triplets(system, &ws.forces, &mut t);
+        }
+        let assembled = check_triplets(nt, nt, &t).and_then(|()| {
+            if !ws.assembly.as_ref().is_some_and(|a| a.fits(nt, &t)) {
+                ws.assembly = Some(SparseAssembly::new(nt, &t)?);
+            }
+            ws.assembly.as_ref().expect("set above").assemble(&t, jac);
+            Ok(())
+        });
         ws.triplets = t;
-        return Ok((r, Some(Matrix::Sparse(j?))));
+        return assembled;
     }
-    if let Some(j) = jac.as_mut() {
-        scatter_contact_jacobian(system, &ws.forces, j);
+    if contacts && want_jacobian {
+        let Some(Matrix::Dense(m)) = jac.as_mut() else { unreachable!("dense Jacobian set above") };
+        scatter_contact_jacobian(system, &ws.forces, m);
     }
-    Ok((r, jac.map(Matrix::Dense)))
+    Ok(())
 }
 
 /// The per-contact cycle reports (states per time sample, dissipated energy) at `z`; empty

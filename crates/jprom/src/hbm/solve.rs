@@ -3,12 +3,12 @@
 //! stepping on the dynamic forcing as the fallback; and the small dense helpers the solvers
 //! share (checked LU, reference force).
 
-use super::newton::{self, NewtonSettings, NonlinearProblem, NotConverged};
-use super::residual::{self, evaluate, ResidualWorkspace};
+use super::newton::{self, Evaluation, NewtonSettings, NonlinearProblem, NotConverged};
+use super::residual::{self, evaluate, evaluate_into, ResidualWorkspace};
 use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
-use crate::linalg::{norm2, Matrix, MatrixLu, SymbolicCache};
+use crate::linalg::{norm2, Matrix, MatrixLu};
 
 /// Norm of the external force `f` of a linear part (all harmonics).
 pub(crate) fn force_norm(lin: &LinearPart) -> f64 {
@@ -61,15 +61,15 @@ struct PointProblem<'a> {
 }
 
 impl NonlinearProblem for PointProblem<'_> {
-    fn evaluate(&mut self, z: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
-        let (mut r, mut jac) = evaluate(self.system, self.lin, self.plan, z, want_jacobian, self.ws)?;
-        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(self.lin, self.ws.contact_force_norm(), norm2(&r)));
+    fn evaluate(&mut self, z: &[f64], want_jacobian: bool, out: &mut Evaluation) -> Result<()> {
+        evaluate_into(self.system, self.lin, self.plan, z, want_jacobian, self.ws, &mut out.r, &mut out.jac)?;
+        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(self.lin, self.ws.contact_force_norm(), norm2(&out.r)));
         let s = 1.0 / f_ref;
-        r.iter_mut().for_each(|v| *v *= s);
-        if let Some(j) = jac.as_mut() {
+        out.r.iter_mut().for_each(|v| *v *= s);
+        if let (true, Some(j)) = (want_jacobian, out.jac.as_mut()) {
             j.scale(s);
         }
-        Ok((r, jac))
+        Ok(())
     }
     fn what(&self) -> String {
         format!("HBM equations at omega = {}", self.omega)
@@ -314,14 +314,15 @@ impl LevelProblem<'_> {
 }
 
 impl NonlinearProblem for LevelProblem<'_> {
-    fn evaluate(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Matrix>)> {
+    fn evaluate(&mut self, y: &[f64], want_jacobian: bool, out: &mut Evaluation) -> Result<()> {
         let n = y.len() - 1;
         let (mut r, top) = self.top(y, want_jacobian)?;
         let (st, yp) = self.constraint.as_ref().expect("a constraint is set before solving");
         r.push((0..=n).map(|i| st[i] * (y[i] - yp[i])).sum::<f64>() / self.ds);
         let row: Vec<f64> = st.iter().map(|v| v / self.ds).collect();
-        let jac = top.map(|(jz, col)| jz.bordered(&col, &row)).transpose()?;
-        Ok((r, jac))
+        out.jac = top.map(|(jz, col)| jz.bordered(&col, &row)).transpose()?;
+        out.r = r;
+        Ok(())
     }
     fn what(&self) -> String {
         format!("continuation in the forcing level at omega = {}", self.omega)
@@ -382,7 +383,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
         let b = jz.bordered(&col, &row)?;
         let mut rhs = vec![0.0; n + 1];
         rhs[n] = 1.0;
-        let t_raw = MatrixLu::new(&b, &format!("level continuation tangent at omega = {omega}"), &mut SymbolicCache::new())?.solve(&rhs);
+        let t_raw = MatrixLu::new(&b, &format!("level continuation tangent at omega = {omega}"))?.solve(&rhs);
         // z scaled by |dz/dlambda| at the start: a unit of arclength first moves lambda by ~1
         let sz = *sz.get_or_insert_with(|| {
             let dz = norm2(&t_raw[..n]) / t_raw[n].abs().max(1e-300);

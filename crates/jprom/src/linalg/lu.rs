@@ -1,5 +1,5 @@
-//! Dense LU factorisation with a singularity check, for real and complex matrices, and its
-//! row- and column-equilibrated variant (the one check every solver in jprom uses).
+//! Dense LU factorisation with a singularity check, for real and complex matrices (the
+//! equilibrated LU the Newton solvers use, dense or sparse, is [`super::MatrixLu`]).
 
 use crate::error::{JpError, Result};
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -88,47 +88,6 @@ pub fn solve_checked(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>>
     Ok(x)
 }
 
-/// LU of a row- and column-equilibrated copy of `a` (`B = R A C` with `C` scaling every column
-/// to unit norm, then `R` every row), so that the singularity test of [`lu_checked`] judges
-/// the matrix and not its units: a bordered continuation system mixes displacement columns,
-/// a frequency column and an arclength row of very different sizes.
-pub struct EquilibratedLu {
-    lu: PartialPivLu<f64>,
-    row: Vec<f64>,
-    col: Vec<f64>,
-}
-
-impl EquilibratedLu {
-    /// Factorises `a`.
-    ///
-    /// # Errors
-    /// As [`lu_checked`], on the equilibrated matrix.
-    pub fn new(a: &Mat<f64>, what: &str) -> Result<Self> {
-        let norm_or_one = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
-        let norms: Vec<f64> = (0..a.ncols()).map(|j| a.col(j).iter().map(|v| v * v).sum::<f64>().sqrt()).collect();
-        // a zero column is an unknown no equation holds (e.g. a mass held only by an open
-        // contact): say so instead of the NaN pivot it would give
-        if let Some(j) = norms.iter().position(|&s| s == 0.0) {
-            return Err(zero_column(what, j));
-        }
-        let col: Vec<f64> = norms.iter().map(|&s| 1.0 / norm_or_one(s)).collect();
-        let mut b = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * col[j]);
-        let row: Vec<f64> = (0..b.nrows()).map(|i| 1.0 / norm_or_one((0..b.ncols()).map(|j| b[(i, j)] * b[(i, j)]).sum::<f64>().sqrt())).collect();
-        for j in 0..b.ncols() {
-            for (i, v) in b.col_mut(j).iter_mut().enumerate() {
-                *v *= row[i];
-            }
-        }
-        Ok(EquilibratedLu { lu: lu_checked(&b, what)?, row, col })
-    }
-
-    /// Solves `a x = rhs`.
-    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        let b: Vec<f64> = rhs.iter().zip(&self.row).map(|(v, r)| v * r).collect();
-        lu_solve(&self.lu, &b).iter().zip(&self.col).map(|(y, c)| y * c).collect()
-    }
-}
-
 /// The error of a matrix whose column `j` is zero.
 pub(crate) fn zero_column(what: &str, j: usize) -> JpError {
     JpError::singular(format!(
@@ -148,21 +107,4 @@ pub fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
         }
     }
     out
-}
-
-#[cfg(test)]
-mod equilibrated_tests {
-    use super::*;
-
-    #[test]
-    fn a_zero_column_is_named_not_a_nan_pivot() {
-        let a = Mat::from_fn(3, 3, |i, j| if j == 1 { 0.0 } else if i == j { 2.0 } else { 0.5 });
-        let e = EquilibratedLu::new(&a, "Jacobian of the test").err().expect("singular");
-        let text = e.to_string();
-        assert!(text.contains("unknown 1 appears in no equation"), "{text}");
-        let ok = Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.5 });
-        let x = EquilibratedLu::new(&ok, "ok").unwrap().solve(&[1.0, 2.0, 3.0]);
-        let r = mat_vec(&ok, &x);
-        assert!((r[0] - 1.0).abs() + (r[1] - 2.0).abs() + (r[2] - 3.0).abs() < 1e-12);
-    }
 }

@@ -4,11 +4,11 @@
 //! and its HBM Jacobian sparse: `J = D + W^T K̂ W` has `O(n (2H+1))` nonzeros per row band of
 //! `K` plus one `d (2H+1)` square block per contact, where the dense form has `(n (2H+1))^2`.
 
-use super::lu::{zero_column, EquilibratedLu};
+use super::lu::zero_column;
 use super::sparse::{sparse_from_triplets, SparseMat};
 use crate::error::{JpError, Result};
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::SparseColMatRef;
 use faer::{Conj, Mat};
 
@@ -101,30 +101,50 @@ impl Matrix {
     /// `A x`.
     pub fn mat_vec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.nrows()];
-        self.mul_add(x, 1.0, &mut y);
+        self.mat_vec_into(x, &mut y);
         y
+    }
+
+    /// `y = A x`.
+    pub fn mat_vec_into(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        self.mul_add(x, 1.0, y);
     }
 
     /// `A^T x`.
     pub fn mat_t_vec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.ncols()];
+        self.mat_t_vec_into(x, &mut y);
+        y
+    }
+
+    /// `y = A^T x`.
+    pub fn mat_t_vec_into(&self, x: &[f64], y: &mut [f64]) {
         match self {
             Matrix::Dense(m) => {
                 for (j, o) in y.iter_mut().enumerate() {
                     *o = m.col(j).iter().zip(x).map(|(a, b)| a * b).sum();
                 }
             }
-            Matrix::Sparse(_) => self.for_each_entry(|i, j, v| y[j] += v * x[i]),
+            Matrix::Sparse(_) => {
+                y.iter_mut().for_each(|v| *v = 0.0);
+                self.for_each_entry(|i, j, v| y[j] += v * x[i]);
+            }
         }
-        y
     }
 
     /// Euclidean norm of every column.
     pub fn column_norms(&self) -> Vec<f64> {
         let mut s = vec![0.0; self.ncols()];
+        self.column_norms_into(&mut s);
+        s
+    }
+
+    /// Euclidean norm of every column, into `s`.
+    pub fn column_norms_into(&self, s: &mut [f64]) {
+        s.iter_mut().for_each(|v| *v = 0.0);
         self.for_each_entry(|_, j, v| s[j] += v * v);
         s.iter_mut().for_each(|v| *v = v.sqrt());
-        s
     }
 
     /// `A *= s`.
@@ -183,135 +203,256 @@ impl Matrix {
     }
 }
 
-/// The symbolic analysis (fill-reducing ordering, elimination structure) of the last sparse
-/// matrix factorised, kept for the next one with the same pattern: the Newton iterations of
-/// one solve all have the same pattern, so only the first pays for the analysis.
+/// The checked, equilibrated LU of a [`Matrix`] in its own storage, kept for the next
+/// factorisation: a Newton solve refactorises its Jacobian every iteration into the same
+/// buffers (dense: the factors, the row permutation, faer's scratch; sparse: the fill-reducing
+/// analysis, kept while the pattern is the same, the numeric factors, the scaled values and
+/// the scratch), so that after the first iteration neither [`MatrixLu::factor`] nor
+/// [`MatrixLu::solve_into`] allocates.
+///
+/// **Equilibration.** `B = R A C`, `C` scaling every column of `A` to unit norm, then `R` every
+/// row of `A C`; the singularity test judges `B`, so it judges the matrix and not its units (a
+/// bordered continuation system mixes displacement columns, a frequency column and an
+/// arclength row of very different sizes). A zero column of `A` is named (an unknown no
+/// equation holds) instead of the NaN pivot it would give.
+///
+/// **Singularity test.** Dense: every pivot of `B` finite and above `100 n eps` times the
+/// largest. Sparse: the factors must reproduce a known solution (`B y = B 1` gives `y = 1` to
+/// `1e-6`, i.e. a condition number far below `1 / eps`); a zero or non-finite pivot fails it too.
 #[derive(Default)]
-pub struct SymbolicCache {
-    pattern: Option<(Vec<usize>, Vec<usize>)>,
-    symbolic: Option<SymbolicLu<usize>>,
-}
-
-impl SymbolicCache {
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    fn for_matrix(&mut self, a: &SparseMat) -> Result<SymbolicLu<usize>> {
-        let s = a.as_ref().symbolic();
-        let same = self.pattern.as_ref().is_some_and(|(cp, ri)| cp.as_slice() == s.col_ptr() && ri.as_slice() == s.row_idx());
-        if !same || self.symbolic.is_none() {
-            let sym = SymbolicLu::try_new(s).map_err(|e| JpError::singular(format!("sparse LU analysis failed: {e:?}")))?;
-            self.pattern = Some((s.col_ptr().to_vec(), s.row_idx().to_vec()));
-            self.symbolic = Some(sym);
-        }
-        Ok(self.symbolic.clone().expect("set above"))
-    }
-}
-
-/// A sparse LU with the same equilibration and the same "name the zero column" check as
-/// [`EquilibratedLu`]. Its singularity test: the factors must reproduce a known solution
-/// (`B x = B 1`, `B` the equilibrated matrix) to `1e-6`, i.e. a condition number far below
-/// `1 / eps`; a factorisation with a zero or non-finite pivot fails that test too.
-pub struct SparseEquilibratedLu {
-    lu: Lu<usize, f64>,
+pub struct MatrixLu {
     row: Vec<f64>,
     col: Vec<f64>,
+    factors: Option<Factors>,
 }
 
-impl SparseEquilibratedLu {
-    /// Factorises `a`, reusing `cache`'s analysis when the pattern is the same.
-    ///
-    /// # Errors
-    /// [`JpError::SingularMatrix`] naming `what`.
-    pub fn new(a: &SparseMat, what: &str, cache: &mut SymbolicCache) -> Result<Self> {
-        let n = a.nrows();
-        if a.ncols() != n {
-            return Err(JpError::bad_size(format!("{what} (columns)"), n, a.ncols()));
-        }
-        let norms: Vec<f64> = {
-            let (cp, v) = (a.as_ref().symbolic().col_ptr(), a.val());
-            (0..n).map(|j| v[cp[j]..cp[j + 1]].iter().map(|x| x * x).sum::<f64>().sqrt()).collect()
-        };
-        if let Some(j) = norms.iter().position(|&s| s == 0.0) {
-            return Err(zero_column(what, j));
-        }
-        let one_or = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
-        let col: Vec<f64> = norms.iter().map(|&s| 1.0 / one_or(s)).collect();
-        // B = R A C on A's own pattern (a view: the pattern is not copied)
-        let sym = a.as_ref().symbolic();
-        let (cp, ri) = (sym.col_ptr(), sym.row_idx());
-        let mut v = a.val().to_vec();
-        for j in 0..n {
-            for k in cp[j]..cp[j + 1] {
-                v[k] *= col[j];
-            }
-        }
-        let mut rs = vec![0.0; n];
-        for k in 0..v.len() {
-            rs[ri[k]] += v[k] * v[k];
-        }
-        let row: Vec<f64> = rs.iter().map(|s| 1.0 / one_or(s.sqrt())).collect();
-        for k in 0..v.len() {
-            v[k] *= row[ri[k]];
-        }
-        let symbolic = cache.for_matrix(a)?;
-        let b = SparseColMatRef::new(sym, &v);
-        let lu = Lu::try_new_with_symbolic(symbolic, b).map_err(|e| JpError::singular(format!("{what} ({n} x {n}, sparse): {e:?}")))?;
-        let this = SparseEquilibratedLu { lu, row, col };
-        // known-solution check on the equilibrated matrix: B y = B 1 must give y = 1
-        let mut rhs = vec![0.0; n];
-        for k in 0..v.len() {
-            rhs[ri[k]] += v[k];
-        }
-        let x = this.solve_scaled(&rhs);
-        let err = x.iter().map(|v| (v - 1.0).abs()).fold(0.0f64, |m, e| if e.is_finite() { m.max(e) } else { f64::INFINITY });
-        if !(err <= 1e-6) {
-            return Err(JpError::singular(format!(
-                "{what} ({n} x {n}, sparse): the LU does not reproduce a known solution (error {err:.3e}): numerically singular"
-            )));
-        }
-        Ok(this)
-    }
-
-    /// Solves the equilibrated system `B y = b`.
-    fn solve_scaled(&self, b: &[f64]) -> Vec<f64> {
-        let mut rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
-        self.lu.solve_in_place_with_conj(Conj::No, rhs.as_mut());
-        (0..b.len()).map(|i| rhs[(i, 0)]).collect()
-    }
-
-    /// Solves `a x = rhs`.
-    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        let b: Vec<f64> = rhs.iter().zip(&self.row).map(|(v, r)| v * r).collect();
-        self.solve_scaled(&b).iter().zip(&self.col).map(|(y, c)| y * c).collect()
-    }
+enum Factors {
+    Dense(DenseFactors),
+    Sparse(Box<SparseFactors>),
 }
 
-/// The checked LU of a [`Matrix`] in its own storage.
-pub enum MatrixLu {
-    Dense(EquilibratedLu),
-    Sparse(SparseEquilibratedLu),
+struct DenseFactors {
+    /// `B`, then its `L` (unit lower) and `U` in place
+    lu: Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    mem: MemBuffer,
+    rhs: Mat<f64>,
+}
+
+struct SparseFactors {
+    pattern: (Vec<usize>, Vec<usize>),
+    symbolic: SymbolicLu<usize>,
+    numeric: NumericLu<usize, f64>,
+    /// `B`'s values on `A`'s pattern
+    values: Vec<f64>,
+    mem: MemBuffer,
+    rhs: Mat<f64>,
 }
 
 impl MatrixLu {
-    /// Factorises `a` (a sparse `a` reuses `cache`'s analysis when its pattern is the same).
+    /// An empty workspace (buffers are sized by the first [`MatrixLu::factor`]).
+    pub fn empty() -> Self {
+        Self::default()
+    }
+
+    /// Factorises `a` once.
     ///
     /// # Errors
     /// [`JpError::SingularMatrix`] naming `what`.
-    pub fn new(a: &Matrix, what: &str, cache: &mut SymbolicCache) -> Result<Self> {
-        Ok(match a {
-            Matrix::Dense(m) => MatrixLu::Dense(EquilibratedLu::new(m, what)?),
-            Matrix::Sparse(m) => MatrixLu::Sparse(SparseEquilibratedLu::new(m, what, cache)?),
-        })
+    pub fn new(a: &Matrix, what: &str) -> Result<Self> {
+        let mut lu = Self::empty();
+        lu.factor(a, || what.to_string())?;
+        Ok(lu)
+    }
+
+    /// Factorises `a` into this workspace's buffers (`what` names the matrix in an error, and
+    /// is only called then). After an error the workspace holds no factors until the next
+    /// successful call.
+    ///
+    /// # Errors
+    /// [`JpError::SingularMatrix`] naming `what()`; [`JpError::BadSize`] for a non-square `a`.
+    pub fn factor(&mut self, a: &Matrix, what: impl Fn() -> String) -> Result<()> {
+        let n = a.nrows();
+        if a.ncols() != n {
+            return Err(JpError::bad_size(format!("{} (columns)", what()), n, a.ncols()));
+        }
+        // column scaling from A's column norms; a zero column is named
+        self.col.clear();
+        self.col.resize(n, 0.0);
+        a.for_each_entry(|_, j, v| self.col[j] += v * v);
+        if let Some(j) = self.col.iter().position(|&s| s == 0.0) {
+            self.factors = None;
+            return Err(zero_column(&what(), j));
+        }
+        let one_or = |s: f64| if s > 0.0 && s.is_finite() { s } else { 1.0 };
+        self.col.iter_mut().for_each(|s| *s = 1.0 / one_or(s.sqrt()));
+        // row scaling from the column-scaled matrix's row norms
+        self.row.clear();
+        self.row.resize(n, 0.0);
+        let col = &self.col;
+        let row = &mut self.row;
+        a.for_each_entry(|i, j, v| {
+            let b = v * col[j];
+            row[i] += b * b;
+        });
+        self.row.iter_mut().for_each(|s| *s = 1.0 / one_or(s.sqrt()));
+        let result = match a {
+            Matrix::Dense(m) => self.factor_dense(m, &what),
+            Matrix::Sparse(m) => self.factor_sparse(m, &what),
+        };
+        if result.is_err() {
+            self.factors = None;
+        }
+        result
+    }
+
+    fn factor_dense(&mut self, a: &Mat<f64>, what: &dyn Fn() -> String) -> Result<()> {
+        let n = a.nrows();
+        let par = faer::get_global_parallelism();
+        let fits = matches!(&self.factors, Some(Factors::Dense(f)) if f.lu.nrows() == n);
+        if !fits {
+            let scratch = StackReq::any_of(&[
+                faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()),
+                faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<usize, f64>(n, 1, par),
+            ]);
+            self.factors = Some(Factors::Dense(DenseFactors {
+                lu: Mat::zeros(n, n),
+                perm: vec![0; n],
+                perm_inv: vec![0; n],
+                mem: MemBuffer::try_new(scratch).map_err(|_| JpError::singular(format!("{}: no memory for the LU scratch", what())))?,
+                rhs: Mat::zeros(n, 1),
+            }));
+        }
+        let Some(Factors::Dense(f)) = self.factors.as_mut() else { unreachable!("dense factors set above") };
+        for j in 0..n {
+            let cj = self.col[j];
+            for (i, (b, &v)) in f.lu.col_mut(j).iter_mut().zip(a.col(j).iter()).enumerate() {
+                *b = v * cj * self.row[i];
+            }
+        }
+        faer::linalg::lu::partial_pivoting::factor::lu_in_place(
+            f.lu.as_mut(),
+            &mut f.perm,
+            &mut f.perm_inv,
+            par,
+            MemStack::new(&mut f.mem),
+            Default::default(),
+        );
+        let (mut max_p, mut min_p) = (0.0f64, f64::INFINITY);
+        for i in 0..n {
+            let p = f.lu[(i, i)].abs();
+            if !p.is_finite() {
+                return Err(JpError::singular(format!("{}: non-finite pivot {i}", what())));
+            }
+            max_p = max_p.max(p);
+            min_p = min_p.min(p);
+        }
+        if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
+            return Err(JpError::singular(format!("{} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}", what())));
+        }
+        Ok(())
+    }
+
+    fn factor_sparse(&mut self, a: &SparseMat, what: &dyn Fn() -> String) -> Result<()> {
+        let n = a.nrows();
+        let sym = a.as_ref().symbolic();
+        let (cp, ri) = (sym.col_ptr(), sym.row_idx());
+        let same = matches!(&self.factors, Some(Factors::Sparse(f)) if f.pattern.0.as_slice() == cp && f.pattern.1.as_slice() == ri);
+        if !same {
+            let symbolic = factorize_symbolic_lu(sym, Default::default())
+                .map_err(|e| JpError::singular(format!("{}: sparse LU analysis failed: {e:?}", what())))?;
+            let par = faer::get_global_parallelism();
+            let scratch = StackReq::any_of(&[
+                symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
+                symbolic.solve_in_place_scratch::<f64>(1, par),
+            ]);
+            let mem = MemBuffer::try_new(scratch).map_err(|_| JpError::singular(format!("{}: no memory for the sparse LU scratch", what())))?;
+            self.factors = Some(Factors::Sparse(Box::new(SparseFactors {
+                pattern: (cp.to_vec(), ri.to_vec()),
+                symbolic,
+                numeric: NumericLu::new(),
+                values: vec![0.0; a.val().len()],
+                mem,
+                rhs: Mat::zeros(n, 1),
+            })));
+        }
+        let Some(Factors::Sparse(f)) = self.factors.as_mut() else { unreachable!("sparse factors set above") };
+        // B = R A C on A's own pattern
+        for j in 0..n {
+            for k in cp[j]..cp[j + 1] {
+                f.values[k] = a.val()[k] * self.col[j] * self.row[ri[k]];
+            }
+        }
+        let par = faer::get_global_parallelism();
+        let b = SparseColMatRef::new(sym, &f.values);
+        f.symbolic
+            .factorize_numeric_lu(&mut f.numeric, b, par, MemStack::new(&mut f.mem), Default::default())
+            .map_err(|e| JpError::singular(format!("{} ({n} x {n}, sparse): {e:?}", what())))?;
+        // known-solution check on the equilibrated matrix: B y = B 1 must give y = 1
+        let rhs = f.rhs.col_mut(0).try_as_col_major_mut().expect("a one-column Mat is contiguous").as_slice_mut();
+        rhs.iter_mut().for_each(|v| *v = 0.0);
+        for k in 0..f.values.len() {
+            rhs[ri[k]] += f.values[k];
+        }
+        LuRef::new_unchecked(&f.symbolic, &f.numeric).solve_in_place_with_conj(Conj::No, f.rhs.as_mut(), par, MemStack::new(&mut f.mem));
+        let err = (0..n).map(|i| (f.rhs[(i, 0)] - 1.0).abs()).fold(0.0f64, |m, e| if e.is_finite() { m.max(e) } else { f64::INFINITY });
+        if !(err <= 1e-6) {
+            return Err(JpError::singular(format!(
+                "{} ({n} x {n}, sparse): the LU does not reproduce a known solution (error {err:.3e}): numerically singular",
+                what()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Solves `a x = rhs` into `x` with the latest factors.
+    ///
+    /// # Panics
+    /// If no factorisation succeeded since the last error, or on mismatched lengths.
+    pub fn solve_into(&mut self, rhs: &[f64], x: &mut [f64]) {
+        let n = self.row.len();
+        assert!(rhs.len() == n && x.len() == n, "right-hand side and solution must have the factorised size");
+        let par = faer::get_global_parallelism();
+        let (row, col) = (&self.row, &self.col);
+        match self.factors.as_mut().expect("solve_into needs a successful factor") {
+            Factors::Dense(f) => {
+                for i in 0..n {
+                    f.rhs[(i, 0)] = rhs[i] * row[i];
+                }
+                // L and U share the factored matrix: the triangular solves read only their triangle
+                // SAFETY: perm and perm_inv are the inverse permutations lu_in_place wrote
+                let p = unsafe { faer::perm::PermRef::new_unchecked(&f.perm, &f.perm_inv, n) };
+                faer::linalg::lu::partial_pivoting::solve::solve_in_place_with_conj(
+                    f.lu.as_ref(),
+                    f.lu.as_ref(),
+                    p,
+                    Conj::No,
+                    f.rhs.as_mut(),
+                    par,
+                    MemStack::new(&mut f.mem),
+                );
+                for i in 0..n {
+                    x[i] = f.rhs[(i, 0)] * col[i];
+                }
+            }
+            Factors::Sparse(f) => {
+                for i in 0..n {
+                    f.rhs[(i, 0)] = rhs[i] * row[i];
+                }
+                LuRef::new_unchecked(&f.symbolic, &f.numeric).solve_in_place_with_conj(Conj::No, f.rhs.as_mut(), par, MemStack::new(&mut f.mem));
+                for i in 0..n {
+                    x[i] = f.rhs[(i, 0)] * col[i];
+                }
+            }
+        }
     }
 
     /// Solves `a x = rhs`.
-    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        match self {
-            MatrixLu::Dense(lu) => lu.solve(rhs),
-            MatrixLu::Sparse(lu) => lu.solve(rhs),
-        }
+    pub fn solve(&mut self, rhs: &[f64]) -> Vec<f64> {
+        let mut x = vec![0.0; rhs.len()];
+        self.solve_into(rhs, &mut x);
+        x
     }
 }
 
@@ -347,25 +488,31 @@ mod tests {
         let row: Vec<f64> = (0..=n).map(|i| 1.0 + 0.02 * i as f64).collect();
         let (bd, bs) = (dm.bordered(&col, &row).unwrap(), sm.bordered(&col, &row).unwrap());
         assert!((&bd.to_dense() - &bs.to_dense()).norm_l2() < 1e-14);
-        let mut cache = SymbolicCache::new();
         let rhs: Vec<f64> = (0..=n).map(|i| (i as f64).cos()).collect();
-        let xd = MatrixLu::new(&bd, "dense", &mut cache).unwrap().solve(&rhs);
-        let xs = MatrixLu::new(&bs, "sparse", &mut cache).unwrap().solve(&rhs);
+        let xd = MatrixLu::new(&bd, "dense").unwrap().solve(&rhs);
+        let mut lu = MatrixLu::new(&bs, "sparse").unwrap();
+        let xs = lu.solve(&rhs);
         assert!(diff(&xd, &xs) < 1e-12, "{}", diff(&xd, &xs));
         assert!(diff(&bs.mat_vec(&xs), &rhs) < 1e-12);
-        // the cached analysis is reused for the same pattern and gives the same answer
-        let xs2 = MatrixLu::new(&bs, "sparse", &mut cache).unwrap().solve(&rhs);
-        assert_eq!(xs, xs2);
+        // refactorised in place (the analysis kept for the same pattern): the same answer
+        lu.factor(&bs, || "sparse again".into()).unwrap();
+        assert_eq!(xs, lu.solve(&rhs));
+        // a dense workspace refactorised with another matrix solves that one
+        let mut lu = MatrixLu::new(&bd, "dense").unwrap();
+        let mut b2 = bd.to_dense();
+        b2[(0, 0)] += 1.0;
+        lu.factor(&Matrix::Dense(b2.clone()), || "dense again".into()).unwrap();
+        let x2 = lu.solve(&rhs);
+        assert!(diff(&Matrix::Dense(b2).mat_vec(&x2), &rhs) < 1e-12);
     }
 
     #[test]
     fn singular_sparse_matrices_are_refused_with_a_reason() {
         let n = 10;
-        let mut cache = SymbolicCache::new();
         // a zero column
         let t: Vec<(usize, usize, f64)> = (0..n).filter(|&i| i != 4).map(|i| (i, i, 1.0)).collect();
         let a = sparse_from_triplets(n, n, t).unwrap();
-        let e = SparseEquilibratedLu::new(&a, "zero column", &mut cache).err().expect("singular").to_string();
+        let e = MatrixLu::new(&Matrix::Sparse(a), "zero column").err().expect("singular").to_string();
         assert!(e.contains("unknown 4 appears in no equation"), "{e}");
         // two equal columns: structurally fine, numerically singular
         let mut t: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 2.0)).collect();
@@ -373,6 +520,20 @@ mod tests {
         t.push((0, 1, 2.0));
         t.push((1, 1, -1.0)); // column 1 = column 0 now: (2, 1) in rows 0 and 1
         let a = sparse_from_triplets(n, n, t).unwrap();
-        assert!(SparseEquilibratedLu::new(&a, "equal columns", &mut SymbolicCache::new()).is_err());
+        assert!(MatrixLu::new(&Matrix::Sparse(a), "equal columns").is_err());
+    }
+
+    #[test]
+    fn a_zero_dense_column_is_named_not_a_nan_pivot() {
+        let a = Mat::from_fn(3, 3, |i, j| if j == 1 { 0.0 } else if i == j { 2.0 } else { 0.5 });
+        let text = MatrixLu::new(&Matrix::Dense(a), "Jacobian of the test").err().expect("singular").to_string();
+        assert!(text.contains("unknown 1 appears in no equation"), "{text}");
+        let ok = Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.5 });
+        let x = MatrixLu::new(&Matrix::Dense(ok.clone()), "ok").unwrap().solve(&[1.0, 2.0, 3.0]);
+        let r = Matrix::Dense(ok).mat_vec(&x);
+        assert!((r[0] - 1.0).abs() + (r[1] - 2.0).abs() + (r[2] - 3.0).abs() < 1e-12);
+        // two equal columns
+        let s = Mat::from_fn(3, 3, |i, j| if j == 2 { (i + 1) as f64 } else if j == 1 { (i + 1) as f64 } else { 1.0 + (i * i) as f64 });
+        assert!(MatrixLu::new(&Matrix::Dense(s), "singular").is_err());
     }
 }

@@ -23,14 +23,7 @@ pub fn sparse_from_triplets(nrows: usize, ncols: usize, mut triplets: Vec<(usize
 /// # Errors
 /// As [`sparse_from_triplets`].
 pub fn sparse_from_triplets_in(nrows: usize, ncols: usize, triplets: &mut [(usize, usize, f64)]) -> Result<SparseMat> {
-    for &(i, j, v) in triplets.iter() {
-        if i >= nrows || j >= ncols {
-            return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) outside {nrows} x {ncols}")));
-        }
-        if !v.is_finite() {
-            return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) is not finite ({v})")));
-        }
-    }
+    check_triplets(nrows, ncols, triplets)?;
     // Stable sort: duplicates are summed in input order, so that a symmetric set of
     // triplets gives an exactly symmetric matrix.
     triplets.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
@@ -53,6 +46,22 @@ pub fn sparse_from_triplets_in(nrows: usize, ncols: usize, triplets: &mut [(usiz
     }
     let symbolic = SymbolicSparseColMat::new_checked(nrows, ncols, col_ptr, None, row_idx);
     Ok(SparseColMat::new(symbolic, val))
+}
+
+/// Every triplet inside `nrows x ncols` and finite.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] naming the first entry that is not.
+pub fn check_triplets(nrows: usize, ncols: usize, triplets: &[(usize, usize, f64)]) -> Result<()> {
+    for &(i, j, v) in triplets {
+        if i >= nrows || j >= ncols {
+            return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) outside {nrows} x {ncols}")));
+        }
+        if !v.is_finite() {
+            return Err(JpError::invalid("sparse triplet", format!("entry ({i}, {j}) is not finite ({v})")));
+        }
+    }
+    Ok(())
 }
 
 /// The `(row, col, value)` triplets of a CSC matrix, column by column.
