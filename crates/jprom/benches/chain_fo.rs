@@ -14,13 +14,12 @@
 mod common;
 
 use common::vm_hwm_mb;
-use faer::Mat;
 use jprom::condensation::CondensedSystem;
-use jprom::contact::Contact;
 use jprom::hbm::full::SPARSE_MIN_UNKNOWNS;
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, Storage};
 use jprom::model::contact_coordinates::ContactTopology;
-use jprom::model::{Damping, Excitation, HarmonicForce, Model};
+use jprom::model::Model;
+use jprom_testkit::chain::jenkins_chain;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -62,26 +61,16 @@ fn cpu_seconds() -> (f64, f64) {
     (tick(11), tick(12)) // utime, stime are fields 14 and 15 of the whole line
 }
 
-/// `n` unit masses in a chain of unit springs, the first tied to ground; each mass has a Jenkins
-/// element to ground (kt = 0.5, slip force 0.05); the last mass is driven at amplitude 0.1.
+/// The chain of [`jenkins_chain`] (n unit masses, a Jenkins element each to ground, kt = 0.5,
+/// slip force 0.05, the last mass driven at 0.1), and the time its n contacts take to add one by
+/// one with the checks the C API makes for each.
 fn chain(n: usize) -> (Model, f64) {
-    let mut k = Mat::<f64>::zeros(n, n);
-    k[(0, 0)] += 1.0;
-    for i in 0..n - 1 {
-        k[(i, i)] += 1.0;
-        k[(i + 1, i + 1)] += 1.0;
-        k[(i, i + 1)] -= 1.0;
-        k[(i + 1, i)] -= 1.0;
-    }
-    let m = Mat::<f64>::identity(n, n);
-    let mut f1 = vec![0.0; n];
-    f1[n - 1] = 0.1;
-    let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
-    let mut model = Model::new(m, k, Damping { mass_coeff: 0.0, stiffness_coeff: 0.01 }, exc, Vec::new(), vec![n - 1]).expect("chain");
+    let mut model = jenkins_chain(n, 0.05, 0.1, false);
+    let contacts = std::mem::take(&mut model.contacts);
     let t = Instant::now();
     let mut topology = ContactTopology::default();
-    for i in 0..n {
-        model.contacts.push(Contact::jenkins(i, None, 0.5, 0.05, 1.0));
+    for (i, c) in contacts.into_iter().enumerate() {
+        model.contacts.push(c);
         model.validate_contact(i).expect("contact");
         topology.add(&model.contacts, i).expect("topology");
     }

@@ -81,3 +81,44 @@ pub mod rom;
 pub mod level;
 
 pub use error::{JpError, Result};
+
+/// Counts the heap allocations each thread makes, in the library's own unit tests (the checks
+/// that the Newton and corrector iterations reuse their workspaces).
+#[cfg(test)]
+pub(crate) mod allocation_count {
+    use std::alloc::{GlobalAlloc, Layout, System};
+    use std::cell::Cell;
+
+    thread_local! {
+        static COUNT: Cell<usize> = const { Cell::new(0) };
+    }
+
+    struct Counting;
+
+    fn add() {
+        // try_with: a thread being torn down has no counter any more
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+    }
+
+    unsafe impl GlobalAlloc for Counting {
+        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+            add();
+            System.alloc(layout)
+        }
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+            System.dealloc(ptr, layout)
+        }
+        unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+            add();
+            System.realloc(ptr, layout, new_size)
+        }
+    }
+
+    #[global_allocator]
+    static GLOBAL: Counting = Counting;
+
+    /// Allocations made so far by the calling thread.
+    pub fn on_this_thread() -> usize {
+        COUNT.with(|c| c.get())
+    }
+}

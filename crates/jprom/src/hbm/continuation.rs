@@ -43,9 +43,9 @@
 //!   (kept as it is if that solve fails: it is converged, just past the end).
 
 use super::newton::{self, Evaluation, NewtonSettings, NonlinearProblem};
-use super::residual::{evaluate, linear_residual, ResidualWorkspace};
+use super::residual::{evaluate_into, linear_residual_into, ResidualWorkspace};
 use super::solve::{finish_point, newton, plan_for, reference_force, AtFrequency, NewtonOutcome};
-use super::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
+use super::{HarmonicSystem, HbmOptions, LinearPart, PointSolution, SweepEnd, SweepOptions, SweepResult, LEFT_BAND_MARGIN};
 use crate::aft::AftPlan;
 use crate::error::{JpError, Result};
 use crate::linalg::{norm2, Matrix, MatrixLu};
@@ -77,12 +77,33 @@ const CONSTRAINT_TOLERANCE: f64 = 1e-8;
 /// # Errors
 /// Those of [`HarmonicSystem::linear_part`].
 pub fn residual_omega_derivative(system: &dyn HarmonicSystem, omega: f64, z: &[f64], delta: f64) -> Result<Vec<f64>> {
-    let layout = system.layout();
-    let lp = system.linear_part(omega + delta)?;
-    let lm = system.linear_part(omega - delta)?;
-    let rp = linear_residual(layout, &lp, z);
-    let rm = linear_residual(layout, &lm, z);
-    Ok(rp.iter().zip(&rm).map(|(a, b)| (a - b) / (2.0 * delta)).collect())
+    let mut out = Vec::new();
+    OmegaDerivative::default().evaluate(system, omega, z, delta, &mut out)?;
+    Ok(out)
+}
+
+/// The buffers of [`residual_omega_derivative`]: the linear parts at `omega +- delta` and
+/// their residuals, kept across the corrector's iterations.
+#[derive(Default)]
+struct OmegaDerivative {
+    plus: Option<LinearPart>,
+    minus: Option<LinearPart>,
+    r_plus: Vec<f64>,
+    r_minus: Vec<f64>,
+}
+
+impl OmegaDerivative {
+    /// [`residual_omega_derivative`] into `out`.
+    fn evaluate(&mut self, system: &dyn HarmonicSystem, omega: f64, z: &[f64], delta: f64, out: &mut Vec<f64>) -> Result<()> {
+        let layout = system.layout();
+        system.linear_part_into(omega + delta, &mut self.plus)?;
+        system.linear_part_into(omega - delta, &mut self.minus)?;
+        linear_residual_into(layout, self.plus.as_ref().expect("set above"), z, &mut self.r_plus);
+        linear_residual_into(layout, self.minus.as_ref().expect("set above"), z, &mut self.r_minus);
+        out.clear();
+        out.extend(self.r_plus.iter().zip(&self.r_minus).map(|(a, b)| (a - b) / (2.0 * delta)));
+        Ok(())
+    }
 }
 
 /// Metric weights: `|dz|^2 sz + domega^2 sw`.
@@ -153,33 +174,66 @@ struct Corrector<'a> {
     constraint: Constraint<'a>,
     ds: f64,
     f_ref: Option<f64>,
+    buf: CorrectorBuffers,
 }
 
-impl Corrector<'_> {
-    /// `R / f_ref` and `[J_z  R_omega] / f_ref` at `y` (`f_ref` fixed at the first call).
-    fn linearise(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Linearisation>)> {
+/// What the corrector's evaluations refill in place (the Newton solver keeps the evaluations
+/// themselves): its iterations allocate nothing when the system refills its linear part in
+/// place (the full-order system does).
+#[derive(Default)]
+struct CorrectorBuffers {
+    lin: Option<LinearPart>,
+    jz: Option<Matrix>,
+    r_omega: Vec<f64>,
+    omega_derivative: OmegaDerivative,
+    /// the constraint's row of the bordered Jacobian
+    row: Vec<f64>,
+}
+
+impl<'a> Corrector<'a> {
+    fn new(
+        system: &'a dyn HarmonicSystem,
+        plan: Option<&'a AftPlan>,
+        sopts: &'a SweepOptions,
+        ws: &'a mut ResidualWorkspace,
+        metric: Metric,
+        constraint: Constraint<'a>,
+        ds: f64,
+    ) -> Self {
+        Corrector { system, plan, sopts, ws, metric, constraint, ds, f_ref: None, buf: CorrectorBuffers::default() }
+    }
+
+    /// `R / f_ref` into `r` and, when asked, `[J_z  R_omega] / f_ref` into `self.buf` (`f_ref`
+    /// fixed at the first call).
+    fn linearise_into(&mut self, y: &[f64], want_jacobian: bool, r: &mut Vec<f64>) -> Result<()> {
         let n = y.len() - 1;
         let omega = y[n];
         if !(omega.is_finite() && omega > 0.0) {
             return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
         }
-        let lin = self.system.linear_part(omega)?;
-        let (mut r, jz) = evaluate(self.system, &lin, self.plan, &y[..n], want_jacobian, self.ws)?;
-        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(&lin, self.ws.contact_force_norm(), norm2(&r)));
+        let CorrectorBuffers { lin, jz, r_omega, omega_derivative, .. } = &mut self.buf;
+        self.system.linear_part_into(omega, lin)?;
+        let lin = lin.as_ref().expect("set above");
+        evaluate_into(self.system, lin, self.plan, &y[..n], want_jacobian, self.ws, r, jz)?;
+        let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(lin, self.ws.contact_force_norm(), norm2(r)));
         let s = 1.0 / f_ref;
         r.iter_mut().for_each(|v| *v *= s);
-        if !norm2(&r).is_finite() {
+        if !norm2(r).is_finite() {
             return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
         }
-        let top = match jz {
-            Some(mut jz) => {
-                let mut r_omega = residual_omega_derivative(self.system, omega, &y[..n], self.sopts.omega_difference * omega)?;
-                jz.scale(s);
-                r_omega.iter_mut().for_each(|v| *v *= s);
-                Some(Linearisation { jz, r_omega })
-            }
-            None => None,
-        };
+        if want_jacobian {
+            omega_derivative.evaluate(self.system, omega, &y[..n], self.sopts.omega_difference * omega, r_omega)?;
+            jz.as_mut().expect("jacobian requested").scale(s);
+            r_omega.iter_mut().for_each(|v| *v *= s);
+        }
+        Ok(())
+    }
+
+    /// `R / f_ref` and `[J_z  R_omega] / f_ref` at `y` (`f_ref` fixed at the first call).
+    fn linearise(&mut self, y: &[f64], want_jacobian: bool) -> Result<(Vec<f64>, Option<Linearisation>)> {
+        let mut r = Vec::new();
+        self.linearise_into(y, want_jacobian, &mut r)?;
+        let top = want_jacobian.then(|| Linearisation { jz: self.buf.jz.take().expect("jacobian requested"), r_omega: std::mem::take(&mut self.buf.r_omega) });
         Ok((r, top))
     }
 }
@@ -187,21 +241,31 @@ impl Corrector<'_> {
 impl NonlinearProblem for Corrector<'_> {
     fn evaluate(&mut self, y: &[f64], want_jacobian: bool, out: &mut Evaluation) -> Result<()> {
         let n = y.len() - 1;
-        let (mut r, top) = self.linearise(y, want_jacobian)?;
-        let (g, row) = match self.constraint {
+        self.linearise_into(y, want_jacobian, &mut out.r)?;
+        let m = self.metric;
+        let weight = |i: usize| if i < n { m.sz } else { m.sw };
+        let row = &mut self.buf.row;
+        row.clear();
+        let g = match self.constraint {
             Constraint::Hyperplane { t, y_pred } => {
-                let st = self.metric.apply(t);
-                ((0..=n).map(|i| st[i] * (y[i] - y_pred[i])).sum::<f64>(), st)
+                row.extend((0..=n).map(|i| weight(i) * t[i]));
+                (0..=n).map(|i| row[i] * (y[i] - y_pred[i])).sum::<f64>()
             }
             Constraint::Sphere { centre } => {
-                let d: Vec<f64> = (0..=n).map(|i| y[i] - centre[i]).collect();
-                (self.metric.dot(&d, &d) - self.ds * self.ds, self.metric.apply(&d).iter().map(|v| 2.0 * v).collect())
+                row.extend((0..=n).map(|i| y[i] - centre[i]));
+                let g = m.dot(row, row) - self.ds * self.ds;
+                for (i, v) in row.iter_mut().enumerate() {
+                    *v = 2.0 * (weight(i) * *v);
+                }
+                g
             }
         };
-        r.push(g / self.ds);
-        let row: Vec<f64> = row.iter().map(|v| v / self.ds).collect();
-        out.jac = top.map(|lz| lz.bordered(&row)).transpose()?;
-        out.r = r;
+        out.r.push(g / self.ds);
+        row.iter_mut().for_each(|v| *v /= self.ds);
+        if want_jacobian {
+            let jz = self.buf.jz.as_ref().expect("jacobian requested");
+            jz.bordered_into(&self.buf.r_omega, &self.buf.row, &mut out.jac)?;
+        }
         Ok(())
     }
     fn converged(&self, r: &[f64], tolerance: f64) -> bool {
@@ -233,7 +297,7 @@ fn correct(
     ws: &mut ResidualWorkspace,
 ) -> Result<Corrected> {
     let omega = y0[y0.len() - 1];
-    let mut problem = Corrector { system, plan, sopts, ws, metric: m, constraint, ds, f_ref: None };
+    let mut problem = Corrector::new(system, plan, sopts, ws, m, constraint, ds);
     let settings = NewtonSettings {
         tolerance: hopts.residual_tolerance,
         step_tolerance: hopts.step_tolerance,
@@ -364,7 +428,7 @@ pub fn sweep_from(
     let mut orient = vec![0.0; n + 1];
     orient[n] = direction * span;
     let mut dir = {
-        let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+        let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
         let (_, top) = c.linearise(&y, true)?;
         tangent(&top.expect("jacobian requested"), &orient, metric, w0)?
     };
@@ -444,7 +508,7 @@ pub fn sweep_from(
             // frequency (oriented along the last direction it may lead back into that point)
             result.restarts.push(omega);
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
-            let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+            let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &orient, metric, corrected.y[n])?
         } else if corner {
@@ -452,7 +516,7 @@ pub fn sweep_from(
             // along the tangent of the new piece (the chord across the corner points between
             // the two pieces, a poor predictor)
             ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
-            let mut c = Corrector { system, plan, sopts, ws: &mut ws, metric, constraint: Constraint::Sphere { centre: &y }, ds: 1.0, f_ref: None };
+            let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &chord, metric, corrected.y[n])?
         } else {
@@ -498,5 +562,78 @@ pub fn sweep_from(
         metric = Metric { sz: 1.0 / (z_ref * z_ref), sw: metric.sw };
         dir = metric.unit(&chord).ok_or_else(|| JpError::singular("continuation chord"))?;
         y = corrected.y;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::allocation_count::on_this_thread;
+    use crate::contact::Contact;
+    use crate::hbm::{FullSystem, Storage};
+    use crate::model::{Damping, Excitation, HarmonicForce, Model};
+    use faer::Mat;
+
+    /// A chain of `n` unit masses with a Jenkins element each to ground (slip force 0.05), the
+    /// last mass driven.
+    fn chain(n: usize) -> Model {
+        let mut k = Mat::<f64>::zeros(n, n);
+        k[(0, 0)] += 1.0;
+        for i in 0..n - 1 {
+            k[(i, i)] += 1.0;
+            k[(i + 1, i + 1)] += 1.0;
+            k[(i, i + 1)] -= 1.0;
+            k[(i + 1, i)] -= 1.0;
+        }
+        let mut f1 = vec![0.0; n];
+        f1[n - 1] = 0.1;
+        let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
+        let contacts = (0..n).map(|i| Contact::jenkins(i, None, 0.5, 0.05, 1.0)).collect();
+        Model::new(Mat::identity(n, n), k, Damping { mass_coeff: 0.0, stiffness_coeff: 0.01 }, exc, contacts, vec![n - 1]).unwrap()
+    }
+
+    /// The corrector's evaluations (linear part, residual, Jacobian, `dR/domega`, bordered
+    /// system) and the refactorisation of the bordered Jacobian allocate nothing once their
+    /// buffers exist (issue 18), sparse and dense; and they equal a fresh evaluation's.
+    #[test]
+    fn corrector_iterations_reuse_their_buffers() {
+        for (n, storage) in [(200, Storage::Sparse), (12, Storage::Dense)] {
+            let hopts = HbmOptions::with_harmonics(3);
+            let system = FullSystem::with_storage(&chain(n), &hopts, storage).unwrap();
+            let sopts = SweepOptions::band(0.5, 1.0);
+            let plan = plan_for(&system, &hopts).unwrap();
+            let point = crate::hbm::solve_point(&system, 0.75, None, &hopts).unwrap();
+            let y0: Vec<f64> = point.z.iter().copied().chain([0.75]).collect();
+            let t: Vec<f64> = (0..y0.len()).map(|i| if i + 1 == y0.len() { 1.0 } else { 1e-3 * y0[i] }).collect();
+            let metric = Metric { sz: 1.0, sw: 1.0 };
+            let mut ws = ResidualWorkspace::new();
+            let mut c = Corrector::new(&system, plan.as_ref(), &sopts, &mut ws, metric, Constraint::Hyperplane { t: &t, y_pred: &y0 }, 0.01);
+            let mut ev = Evaluation::default();
+            let mut lu = MatrixLu::empty();
+            let y1: Vec<f64> = y0.iter().enumerate().map(|(i, v)| v * (1.0 + 1e-3 * (i % 7) as f64)).collect();
+            c.evaluate(&y0, true, &mut ev).unwrap();
+            lu.factor(ev.jac.as_ref().unwrap(), || "bordered".into()).unwrap();
+            let mut dz = vec![0.0; y0.len()];
+            // ten iterations: rayon's job queue (the AFT over 200 contacts and faer's sparse LU
+            // hand it work) allocates one block per 63 jobs pushed from outside its pool, from
+            // whichever thread pushes; a buffer rebuilt per iteration would show ten times
+            let before = on_this_thread();
+            for _ in 0..10 {
+                c.evaluate(&y1, true, &mut ev).unwrap();
+                lu.factor(ev.jac.as_ref().unwrap(), || "bordered".into()).unwrap();
+                lu.solve_into(&ev.r, &mut dz);
+            }
+            let allocations = on_this_thread() - before;
+            assert!(allocations <= 2, "{storage:?}: ten corrector iterations allocated {allocations} times");
+            // the refilled evaluation equals a fresh corrector's
+            let mut fresh = Evaluation::default();
+            let mut ws2 = ResidualWorkspace::new();
+            let mut c2 = Corrector::new(&system, plan.as_ref(), &sopts, &mut ws2, metric, Constraint::Hyperplane { t: &t, y_pred: &y0 }, 0.01);
+            c2.f_ref = c.f_ref;
+            c2.evaluate(&y1, true, &mut fresh).unwrap();
+            assert_eq!(ev.r, fresh.r);
+            assert_eq!(ev.jac.as_ref().unwrap().to_dense(), fresh.jac.as_ref().unwrap().to_dense());
+            assert_eq!(ev.jac.as_ref().unwrap().is_sparse(), storage == Storage::Sparse);
+        }
     }
 }

@@ -124,13 +124,49 @@ impl FullSystem {
     }
 }
 
-/// `D_h` and `f_h` of the model in contact coordinates, all `N` DoFs.
-pub(crate) fn dynamic_stiffness_parts(c: &ContactCoordinates, omega: f64, h: usize) -> (Mat<f64>, Mat<f64>) {
+/// The real and imaginary parts of `D_h = K - (h omega)^2 M + i (h omega C + eta K)` of the model
+/// in contact coordinates, all `N` DoFs, into `re` and `im` (`N x N`).
+fn dynamic_stiffness_parts_into(c: &ContactCoordinates, omega: f64, h: usize, re: &mut Mat<f64>, im: &mut Mat<f64>) {
     let hw = h as f64 * omega;
-    let n = c.n_dof;
-    let re = Mat::from_fn(n, n, |i, j| c.stiffness[(i, j)] - hw * hw * c.mass[(i, j)]);
-    let im = Mat::from_fn(n, n, |i, j| c.dissipation(hw, i, j));
-    (re, im)
+    for j in 0..c.n_dof {
+        for i in 0..c.n_dof {
+            re[(i, j)] = c.stiffness[(i, j)] - hw * hw * c.mass[(i, j)];
+            im[(i, j)] = c.dissipation(hw, i, j);
+        }
+    }
+}
+
+impl FullSystem {
+    /// Whether `m` has this system's storage (and, sparse, its pattern).
+    fn is_own(&self, m: &Matrix) -> bool {
+        let n = self.coords.n_dof;
+        match (&self.sparse, m) {
+            (Some(p), Matrix::Sparse(a)) => {
+                let s = a.as_ref().symbolic();
+                s.nrows() == n && s.col_ptr() == p.pattern.col_ptr() && s.row_idx() == p.pattern.row_idx()
+            }
+            (None, Matrix::Dense(a)) => a.nrows() == n && a.ncols() == n,
+            _ => false,
+        }
+    }
+
+    /// A linear part of this system's storage and sizes (values to be filled).
+    fn empty_linear_part(&self) -> LinearPart {
+        let n = self.coords.n_dof;
+        let h_max = self.layout.harmonics;
+        let matrix = || match &self.sparse {
+            Some(p) => p.matrix(vec![0.0; p.k.len()]),
+            None => Matrix::Dense(Mat::zeros(n, n)),
+        };
+        LinearPart {
+            d0: matrix(),
+            f0: vec![0.0; n],
+            dh_re: (0..h_max).map(|_| matrix()).collect(),
+            dh_im: (0..h_max).map(|_| matrix()).collect(),
+            fh_cos: vec![vec![0.0; n]; h_max],
+            fh_sin: vec![vec![0.0; n]; h_max],
+        }
+    }
 }
 
 impl HarmonicSystem for FullSystem {
@@ -141,38 +177,45 @@ impl HarmonicSystem for FullSystem {
         self.coords.contacts()
     }
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        let mut lin = None;
+        self.linear_part_into(omega, &mut lin)?;
+        Ok(lin.expect("linear_part_into sets it"))
+    }
+    fn linear_part_into(&self, omega: f64, out: &mut Option<LinearPart>) -> Result<()> {
         super::options::check_omega(omega)?;
         let c = &self.coords;
-        let mut lin = LinearPart {
-            d0: match &self.sparse {
-                Some(p) => p.matrix(p.k.clone()),
-                None => c.stiffness.clone().into(),
-            },
-            f0: c.static_force.clone(),
-            dh_re: Vec::new(),
-            dh_im: Vec::new(),
-            fh_cos: Vec::new(),
-            fh_sin: Vec::new(),
-        };
-        for h in 1..=self.layout.harmonics {
-            let (re, im) = match &self.sparse {
-                Some(p) => {
-                    let hw = h as f64 * omega;
-                    let re = p.k.iter().zip(&p.m).map(|(k, m)| k - hw * hw * m).collect();
-                    let im = p.c.iter().zip(&p.k).map(|(cv, k)| dissipation(hw, *cv, *k, c.loss_factor)).collect();
-                    (p.matrix(re), p.matrix(im))
-                }
-                None => {
-                    let (re, im) = dynamic_stiffness_parts(c, omega, h);
-                    (re.into(), im.into())
-                }
-            };
-            lin.dh_re.push(re);
-            lin.dh_im.push(im);
-            lin.fh_cos.push(c.harmonic_force[h - 1].0.clone());
-            lin.fh_sin.push(c.harmonic_force[h - 1].1.clone());
+        let h_max = self.layout.harmonics;
+        let fits = out.as_ref().is_some_and(|l| {
+            l.dh_re.len() == h_max && l.dh_im.len() == h_max && self.is_own(&l.d0) && l.dh_re.iter().chain(&l.dh_im).all(|m| self.is_own(m))
+        });
+        if !fits {
+            *out = Some(self.empty_linear_part());
         }
-        Ok(lin)
+        let lin = out.as_mut().expect("set above");
+        lin.f0.copy_from_slice(&c.static_force);
+        match (&self.sparse, &mut lin.d0) {
+            (Some(p), Matrix::Sparse(d0)) => d0.val_mut().copy_from_slice(&p.k),
+            (None, Matrix::Dense(d0)) => d0.copy_from(&c.stiffness),
+            _ => unreachable!("storage checked above"),
+        }
+        for h in 1..=h_max {
+            let hw = h as f64 * omega;
+            match (&self.sparse, &mut lin.dh_re[h - 1], &mut lin.dh_im[h - 1]) {
+                (Some(p), Matrix::Sparse(re), Matrix::Sparse(im)) => {
+                    for ((v, k), m) in re.val_mut().iter_mut().zip(&p.k).zip(&p.m) {
+                        *v = k - hw * hw * m;
+                    }
+                    for ((v, cv), k) in im.val_mut().iter_mut().zip(&p.c).zip(&p.k) {
+                        *v = dissipation(hw, *cv, *k, c.loss_factor);
+                    }
+                }
+                (None, Matrix::Dense(re), Matrix::Dense(im)) => dynamic_stiffness_parts_into(c, omega, h, re, im),
+                _ => unreachable!("storage checked above"),
+            }
+            lin.fh_cos[h - 1].copy_from_slice(&c.harmonic_force[h - 1].0);
+            lin.fh_sin[h - 1].copy_from_slice(&c.harmonic_force[h - 1].1);
+        }
+        Ok(())
     }
     fn output_harmonics(&self, _omega: f64, z: &[f64]) -> Result<Vec<f64>> {
         if z.len() != self.layout.total() {

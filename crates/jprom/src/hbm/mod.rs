@@ -98,6 +98,13 @@ pub trait HarmonicSystem: Sync {
     }
     /// `D_h(omega)` and `f_h(omega)` for all harmonics.
     fn linear_part(&self, omega: f64) -> Result<LinearPart>;
+    /// [`HarmonicSystem::linear_part`] into `out`, reusing its storage where the system can
+    /// (the full-order system refills matrices of its own storage and pattern in place, so the
+    /// continuation corrector's iterations do not allocate); by default a new one.
+    fn linear_part_into(&self, omega: f64, out: &mut Option<LinearPart>) -> Result<()> {
+        *out = Some(self.linear_part(omega)?);
+        Ok(())
+    }
     /// Physical response at the output DoFs, per harmonic coefficient: entry `k * n_out + j`
     /// (`k = 0`, `2h - 1`, `2h` as in [`crate::aft`]).
     fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>>;

@@ -129,7 +129,7 @@ pub fn linear_residual(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64]) -> 
 }
 
 /// `r = D z - f`, reusing `r`'s storage.
-fn linear_residual_into(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64], r: &mut Vec<f64>) {
+pub(crate) fn linear_residual_into(layout: &HarmonicLayout, lin: &LinearPart, z: &[f64], r: &mut Vec<f64>) {
     r.clear();
     r.resize(layout.total(), 0.0);
     let n0 = layout.size(0);

@@ -5,7 +5,7 @@
 //! `K` plus one `d (2H+1)` square block per contact, where the dense form has `(n (2H+1))^2`.
 
 use super::lu::zero_column;
-use super::sparse::{sparse_from_triplets, SparseMat};
+use super::sparse::SparseMat;
 use crate::error::{JpError, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
@@ -162,28 +162,86 @@ impl Matrix {
     /// # Errors
     /// [`JpError::BadSize`] on mismatched lengths; a non-finite border entry in sparse storage.
     pub fn bordered(&self, col: &[f64], row: &[f64]) -> Result<Matrix> {
+        let mut out = None;
+        self.bordered_into(col, row, &mut out)?;
+        Ok(out.expect("bordered_into sets it"))
+    }
+
+    /// [`Matrix::bordered`] into `out`, refilled in place when it already has the bordered
+    /// storage and pattern (the corrector's iterations).
+    ///
+    /// # Errors
+    /// As [`Matrix::bordered`].
+    pub fn bordered_into(&self, col: &[f64], row: &[f64], out: &mut Option<Matrix>) -> Result<()> {
         let n = self.nrows();
         if self.ncols() != n || col.len() != n || row.len() != n + 1 {
             return Err(JpError::bad_size("bordered matrix border", n, col.len()));
         }
-        Ok(match self {
-            Matrix::Dense(a) => Matrix::Dense(Mat::from_fn(n + 1, n + 1, |i, j| {
-                if i == n {
-                    row[j]
-                } else if j == n {
-                    col[i]
-                } else {
-                    a[(i, j)]
+        match self {
+            Matrix::Dense(a) => {
+                if !matches!(out, Some(Matrix::Dense(b)) if b.nrows() == n + 1 && b.ncols() == n + 1) {
+                    *out = Some(Matrix::Dense(Mat::zeros(n + 1, n + 1)));
                 }
-            })),
-            Matrix::Sparse(a) => {
-                let mut t = Vec::with_capacity(a.val().len() + 2 * n + 1);
-                self.for_each_entry(|i, j, v| t.push((i, j, v)));
-                t.extend(col.iter().enumerate().map(|(i, &v)| (i, n, v)));
-                t.extend(row.iter().enumerate().map(|(j, &v)| (n, j, v)));
-                Matrix::Sparse(sparse_from_triplets(n + 1, n + 1, t)?)
+                let Some(Matrix::Dense(b)) = out.as_mut() else { unreachable!("set above") };
+                b.as_mut().submatrix_mut(0, 0, n, n).copy_from(a);
+                for i in 0..n {
+                    b[(i, n)] = col[i];
+                }
+                for j in 0..=n {
+                    b[(n, j)] = row[j];
+                }
             }
-        })
+            Matrix::Sparse(a) => {
+                if let Some((i, v)) = col.iter().chain(row).enumerate().find(|(_, v)| !v.is_finite()) {
+                    let (r, c) = if i < n { (i, n) } else { (n, i - n) };
+                    return Err(JpError::invalid("sparse triplet", format!("entry ({r}, {c}) is not finite ({v})")));
+                }
+                let s = a.as_ref().symbolic();
+                let (cp, ri) = (s.col_ptr(), s.row_idx());
+                // column j < n: A's entries, then row[j] in row n; column n: col, then row[n]
+                let fits = match out {
+                    Some(Matrix::Sparse(b)) => {
+                        let t = b.as_ref().symbolic();
+                        let (bp, bi) = (t.col_ptr(), t.row_idx());
+                        t.nrows() == n + 1
+                            && t.ncols() == n + 1
+                            && (0..n).all(|j| bp[j] == cp[j] + j && bi[bp[j]..bp[j + 1] - 1] == ri[cp[j]..cp[j + 1]] && bi[bp[j + 1] - 1] == n)
+                            && bp[n] == cp[n] + n
+                            && bp[n + 1] == bp[n] + n + 1
+                            && bi[bp[n]..].iter().enumerate().all(|(k, &i)| i == k)
+                    }
+                    _ => false,
+                };
+                if !fits {
+                    let mut bp = Vec::with_capacity(n + 2);
+                    let mut bi = Vec::with_capacity(ri.len() + 2 * n + 1);
+                    for j in 0..n {
+                        bp.push(bi.len());
+                        bi.extend_from_slice(&ri[cp[j]..cp[j + 1]]);
+                        bi.push(n);
+                    }
+                    bp.push(bi.len());
+                    bi.extend(0..=n);
+                    bp.push(bi.len());
+                    let pattern = faer::sparse::SymbolicSparseColMat::new_checked(n + 1, n + 1, bp, None, bi);
+                    let nnz = pattern.row_idx().len();
+                    *out = Some(Matrix::Sparse(faer::sparse::SparseColMat::new(pattern, vec![0.0; nnz])));
+                }
+                let Some(Matrix::Sparse(b)) = out.as_mut() else { unreachable!("set above") };
+                let v = b.val_mut();
+                let av = a.val();
+                let mut pos = 0;
+                for j in 0..n {
+                    let len = cp[j + 1] - cp[j];
+                    v[pos..pos + len].copy_from_slice(&av[cp[j]..cp[j + 1]]);
+                    v[pos + len] = row[j];
+                    pos += len + 1;
+                }
+                v[pos..pos + n].copy_from_slice(col);
+                v[pos + n] = row[n];
+            }
+        }
+        Ok(())
     }
 
     /// Dense copy.
@@ -224,6 +282,18 @@ pub struct MatrixLu {
     row: Vec<f64>,
     col: Vec<f64>,
     factors: Option<Factors>,
+}
+
+/// Below this size a dense LU runs on the calling thread: faer's parallel kernels hand their
+/// blocks to rayon, whose job queue allocates, and at this size the threads gain nothing.
+const DENSE_PARALLEL_MIN: usize = 512;
+
+fn dense_parallelism(n: usize) -> faer::Par {
+    if n < DENSE_PARALLEL_MIN {
+        faer::Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    }
 }
 
 enum Factors {
@@ -309,7 +379,7 @@ impl MatrixLu {
 
     fn factor_dense(&mut self, a: &Mat<f64>, what: &dyn Fn() -> String) -> Result<()> {
         let n = a.nrows();
-        let par = faer::get_global_parallelism();
+        let par = dense_parallelism(n);
         let fits = matches!(&self.factors, Some(Factors::Dense(f)) if f.lu.nrows() == n);
         if !fits {
             let scratch = StackReq::any_of(&[
@@ -413,7 +483,10 @@ impl MatrixLu {
     pub fn solve_into(&mut self, rhs: &[f64], x: &mut [f64]) {
         let n = self.row.len();
         assert!(rhs.len() == n && x.len() == n, "right-hand side and solution must have the factorised size");
-        let par = faer::get_global_parallelism();
+        let par = match &self.factors {
+            Some(Factors::Dense(_)) => dense_parallelism(n),
+            _ => faer::get_global_parallelism(),
+        };
         let (row, col) = (&self.row, &self.col);
         match self.factors.as_mut().expect("solve_into needs a successful factor") {
             Factors::Dense(f) => {
@@ -459,6 +532,7 @@ impl MatrixLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::sparse::sparse_from_triplets;
 
     fn tridiagonal(n: usize, diag: f64) -> (Mat<f64>, SparseMat) {
         let d = Mat::from_fn(n, n, |i, j| if i == j { diag + i as f64 } else if i.abs_diff(j) == 1 { -1.0 - 0.1 * j as f64 } else { 0.0 });
