@@ -490,6 +490,16 @@ pub fn sweep_from(
                     result.rejected_steps += 1;
                     ds *= 0.5;
                 }
+                // A sharp turn that the smallest step cannot resolve is not taken: a chord
+                // that sharp at that length is sideways off the branch (on the twisted-blade
+                // NLR at alpha_ST / 20 one turned by 83 degrees at a stick-slip kink, and the
+                // steps after it retraced the branch back down the band). The restart steps
+                // over the kink at fixed frequency instead.
+                Ok((_, _, angle)) if angle > sharp_turn(sopts) && 0.5 * ds < sopts.min_step => {
+                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a turn of {angle:.2} rad at the smallest step"), iterations: 0, residual: f64::NAN });
+                    result.rejected_steps += 1;
+                    ds *= 0.5;
+                }
                 Ok(v) => break v,
                 // a failed external law (C callback) is the caller's error, not a hard part of
                 // the branch: no shorter step would mend it, so the sweep ends with it
