@@ -53,11 +53,15 @@ pub struct AdaptiveOptions {
     /// largest `e*` (default true; each check costs about one full-order Newton iteration); off,
     /// by `e*` alone. See the module doc.
     pub verify: bool,
+    /// The output whose first-harmonic amplitude locates a pass's resonance, where its
+    /// linearised error is checked (default 0, the first output).
+    #[serde(default)]
+    pub response_output: usize,
 }
 
 impl Default for AdaptiveOptions {
     fn default() -> Self {
-        AdaptiveOptions { kind: RomKind::Fr, threshold: POOR_BASIS_THRESHOLD, max_corrections: 5, gamma_growth: 10.0, max_gamma: 1e6, verify: true }
+        AdaptiveOptions { kind: RomKind::Fr, threshold: POOR_BASIS_THRESHOLD, max_corrections: 5, gamma_growth: 10.0, max_gamma: 1e6, verify: true, response_output: 0 }
     }
 }
 
@@ -155,7 +159,7 @@ fn run_pass(
     sopts: &SweepOptions,
     hopts: &HbmOptions,
     plan: &AftPlan,
-    pass: usize,
+    (pass, response): (usize, usize),
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<Pass> {
     let (sw, errors) = super::sweep_with_predicted_error(rom, sopts, hopts, &mut |p: &PointSolution| on_point(pass, p))?;
@@ -173,7 +177,7 @@ fn run_pass(
     }
     let mut checks = Vec::new();
     if let Some(condensed) = condensed {
-        let amplitude = |p: &PointSolution| if p.n_outputs > 0 { p.output_amplitude(1, 0) } else { 0.0 };
+        let amplitude = |p: &PointSolution| if response < p.n_outputs { p.output_amplitude(1, response) } else { 0.0 };
         let peak = (0..sw.points.len()).max_by(|&a, &b| amplitude(&sw.points[a]).total_cmp(&amplitude(&sw.points[b]))).unwrap_or(0);
         let mut by_error: Vec<usize> = (0..sw.points.len()).collect();
         by_error.sort_by(|&a, &b| errors[b][1].total_cmp(&errors[a][1]));
@@ -197,6 +201,18 @@ fn run_pass(
         }
     }
     Ok(Pass { sweep: sw, errors, checks, worst: worst.max(0.0), worst_at })
+}
+
+fn check_options(aopts: &AdaptiveOptions) -> Result<()> {
+    if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
+        return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
+    }
+    Ok(())
+}
+
+/// Whether the condensed full-order Jacobian is small enough for the error checks.
+fn checkable(coords: &ContactCoordinates, hopts: &HbmOptions) -> bool {
+    coords.n_w > 0 && (2 * hopts.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS
 }
 
 /// Predicts a JP basis for `model`, sweeps the reduced model over `sopts`' band and corrects
@@ -231,32 +247,60 @@ pub fn adaptive_sweep_with_progress(
     aopts: &AdaptiveOptions,
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
-    if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
-        return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
-    }
+    check_options(aopts)?;
     let coords = ContactCoordinates::new(model, hopts.harmonics)?;
-    let checkable = coords.n_w > 0 && (2 * hopts.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS;
+    let checkable = checkable(&coords, hopts);
     let condensed = if aopts.kind == RomKind::Nlr || (aopts.verify && checkable) { Some(CondensedSystem::new(model, hopts)?) } else { None };
-    let check_with = if aopts.verify && checkable { condensed.as_ref() } else { None };
+    let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+    let initial = predict_basis(&coords, &plan, pred)?;
+    adaptive_sweep_from(&coords, condensed.as_ref(), initial, pred, sopts, hopts, aopts, on_point)
+}
+
+/// [`adaptive_sweep_with_progress`] from a basis already predicted (`initial`: the basis and
+/// its report), on the model's contact coordinates `coords` and condensed full-order system
+/// `condensed` (needed for NLR and for the error checks; `None` judges by `e*` alone). One
+/// basis predicted for the largest excitation of a study serves every level (its samples span
+/// the patterns of the smaller ones); each level's corrections are its own. The corrections
+/// predict with `pred` (its band, `gamma`, samples).
+///
+/// # Errors
+/// As [`adaptive_sweep`]; [`JpError::InvalidValue`] for NLR without `condensed`.
+#[allow(clippy::too_many_arguments)]
+pub fn adaptive_sweep_from(
+    coords: &ContactCoordinates,
+    condensed: Option<&CondensedSystem>,
+    initial: (JpBasis, PredictionReport),
+    pred: &PredictionOptions,
+    sopts: &SweepOptions,
+    hopts: &HbmOptions,
+    aopts: &AdaptiveOptions,
+    on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
+) -> Result<AdaptiveSweep> {
+    check_options(aopts)?;
+    if aopts.kind == RomKind::Nlr && condensed.is_none() {
+        return Err(JpError::invalid("adaptive sweep", "NLR needs the condensed full-order system"));
+    }
+    let checkable = checkable(coords, hopts);
+    let check_with = if aopts.verify && checkable { condensed } else { None };
     let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
     let mut popts = pred.clone();
-    let (mut basis, mut prediction) = predict_basis(&coords, &plan, &popts)?;
-    let mut rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
+    let (mut basis, mut prediction) = initial;
+    let mut rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
     let mut corrections = Vec::new();
     // A basis too poor to converge at the first frequency has no reduced solution to
     // regenerate from: enlarge gamma (uniting as below) while corrections remain.
     let mut pass = loop {
-        match run_pass(rom.as_ref(), check_with, sopts, hopts, &plan, corrections.len(), on_point) {
+        match run_pass(rom.as_ref(), check_with, sopts, hopts, &plan, (corrections.len(), aopts.response_output), on_point) {
             Ok(p) => break p,
             Err(e @ JpError::NoConvergence { .. }) => {
                 if corrections.len() >= aopts.max_corrections || popts.gamma >= aopts.max_gamma {
                     return Err(e);
                 }
                 popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
-                let (fresh, r) = predict_basis(&coords, &plan, &popts)?;
+                let (fresh, r) = predict_basis(coords, &plan, &popts)?;
                 basis = basis.union(&fresh, popts.gamma)?;
                 prediction = r;
-                rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &basis)?;
+                rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
                 corrections.push(Correction {
                     kind: CorrectionKind::GammaIncreased { gamma: popts.gamma },
                     worst_error_before: f64::INFINITY,
@@ -300,10 +344,10 @@ pub fn adaptive_sweep_with_progress(
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
-        let (fresh, r) = predict_basis(&coords, &plan, &popts)?;
+        let (fresh, r) = predict_basis(coords, &plan, &popts)?;
         let b = basis.union(&fresh, popts.gamma)?;
-        let new_rom = super::reduced_model(aopts.kind, &coords, condensed.as_ref(), &b)?;
-        let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, &plan, corrections.len() + 1, on_point)?;
+        let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
+        let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, &plan, (corrections.len() + 1, aopts.response_output), on_point)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
         // Regenerate again only if it helped; otherwise grow gamma next.
         regenerate_next = new_pass.worst < 0.5 * before && popts.gamma < aopts.max_gamma;
