@@ -6,7 +6,7 @@
 # MPI build to use instead of building one.
 #  1. `mpirun -np 2` and `-np 3` of `jprom run` (built with --features mpi) on a two-level
 #     study (6 units), on a two-case two-level study (12 units, files prefixed with the case)
-#     and on the demo study (`jprom demo`'s, 8 units with the gamma study), and `-np 1` on the
+#     and on the demo study (`jprom demo`'s, 9 units: 3 levels x FO, FR, NLR), and `-np 1` on the
 #     first: the same CSV and SVG files as the serial run, byte for byte.
 #  2. A unit forced to fail (JPROM_FAIL_UNIT=1:panic, FR at the first level) under -np 3: rank 0
 #     reports it in the summary, the job exits non-zero, the other units' CSVs are the serial ones.
@@ -60,13 +60,13 @@ for np in 2 3; do
     # parameter cases: 2 cases x 2 levels x FO, FR, NLR
     timeout 600 "${mpirun[@]}" -np "$np" "$jprom" run "$studies/two_cases.toml" --out "$work/cases-np$np" --quiet > "$work/cases-np$np.txt"
     same_files "$work/cases-serial" "$work/cases-np$np"
-    # the demo study (jprom demo): 2 levels x FO, FR, NLR and the gamma study
+    # the demo study (jprom demo): 3 levels x FO, FR, NLR
     timeout 900 "${mpirun[@]}" -np "$np" "$jprom" run crates/jprom-cli/demo_study.toml --out "$work/demo-np$np" --quiet > "$work/demo-np$np.txt"
     same_files "$work/demo-serial" "$work/demo-np$np"
 done
 # the files of each case are there, prefixed with its name
 ls "$work/cases-np3"/base_alpha_ST_x1e-1_fo.csv "$work/cases-np3"/mu0.2_frf_alpha_ST_x1e-1.svg > /dev/null
-[ "$(cd "$work/demo-serial" && ls *.csv | wc -l)" -ge 7 ] # 6 sweeps and basis_study.csv
+[ "$(cd "$work/demo-serial" && ls *.csv | wc -l)" -ge 9 ] # 9 sweeps
 # a one-rank job is the serial run
 timeout 600 "${mpirun[@]}" -np 1 "$jprom" run "$studies/two_levels.toml" --out "$work/two-np1" --quiet > "$work/two-np1.txt"
 same_files "$work/two-serial" "$work/two-np1"

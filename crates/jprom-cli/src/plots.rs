@@ -151,6 +151,25 @@ pub struct PlotSpec<'a> {
     pub legend: Legend,
 }
 
+/// Colours of the excitation levels on a chart of several levels (none a solver's colour).
+pub const LEVEL_PALETTE: [RGBColor; 6] =
+    [RGBColor(44, 160, 44), RGBColor(255, 127, 14), RGBColor(148, 103, 189), RGBColor(140, 86, 75), RGBColor(227, 119, 194), RGBColor(23, 190, 207)];
+
+/// A solver's curve at the `level`-th excitation level on a chart of several levels: the
+/// level's colour ([`LEVEL_PALETTE`]), the solver's line and marker (FO solid, on top; FR
+/// dashed with squares; NLR triangles without a line).
+pub fn level_series(label: impl Into<String>, level: usize, points: Vec<(f64, f64)>) -> Series {
+    let label = label.into();
+    let solver = solver_of(&label);
+    let color = LEVEL_PALETTE[level % LEVEL_PALETTE.len()];
+    let (dash, width, marker, max_markers) = match solver {
+        Some("FR") => (Dash::Dashed, 2, Marker::Square, 12),
+        Some("NLR") => (Dash::None, 2, Marker::Triangle, 24),
+        _ => (Dash::Solid, 2, Marker::None, 0),
+    };
+    Series { label, points, markers: false, line_and_markers: false, color: None, style: Some(Style { color, dash, width, marker, max_markers }), on_top: solver == Some("FO") }
+}
+
 const PALETTE: [RGBColor; 6] = [
     RGBColor(0, 0, 0),
     RGBColor(214, 39, 40),
@@ -357,4 +376,121 @@ fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift
         y += 6;
     }
     Ok(())
+}
+
+/// The contact nodes on their surfaces, each coloured by the energy it dissipates per cycle
+/// (the paper's Fig. 4a). `positions` and `frames` (rows `t1, t2, n`) are the nodes', `energies`
+/// their energies, all in the same (study) order; each node is labelled with its number in that
+/// order (the x axis of the energy-per-node plot) where there is room. Nodes whose normals agree
+/// (within 10 degrees) form a surface, drawn in its own panel in its tangent plane (`t1` of its
+/// first node and `n x t1`); with more than four such surfaces (normals that turn, as round a
+/// disc) every node goes into one panel, in the plane of the two coordinate axes along which
+/// the nodes spread most. A node that dissipates nothing (stuck, or open) is an empty circle.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] if the counts differ or there is no node; [`JpError::Io`] if the
+/// file cannot be written.
+pub fn write_energy_map(path: &Path, title: &str, positions: &[[f64; 3]], frames: &[[[f64; 3]; 3]], energies: &[f64], energy_label: &str) -> Result<()> {
+    let n = positions.len();
+    if n == 0 || frames.len() != n || energies.len() != n {
+        return Err(JpError::invalid("energy map", format!("{n} positions, {} frames and {} energies", frames.len(), energies.len())));
+    }
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    // surfaces: nodes grouped by normal
+    let mut groups: Vec<([f64; 3], [f64; 3], Vec<usize>)> = Vec::new();
+    for (i, f) in frames.iter().enumerate() {
+        match groups.iter_mut().find(|g| dot(g.0, f[2]) > 0.985) {
+            Some(g) => g.2.push(i),
+            None => groups.push((f[2], f[0], vec![i])),
+        }
+    }
+    let panels: Vec<(String, String, Vec<usize>, Vec<(f64, f64)>)> = if groups.len() <= 4 {
+        groups
+            .iter()
+            .enumerate()
+            .map(|(k, (nrm, t1, idx))| {
+                let v = cross(*nrm, *t1);
+                let pts = idx.iter().map(|&i| (dot(positions[i], *t1), dot(positions[i], v))).collect();
+                (format!("surface {} (normal {:.2} {:.2} {:.2}): along t1", k + 1, nrm[0], nrm[1], nrm[2]), "along n x t1".to_string(), idx.clone(), pts)
+            })
+            .collect()
+    } else {
+        let spread = |d: usize| {
+            let (lo, hi) = positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[d]), hi.max(p[d])));
+            hi - lo
+        };
+        let mut axes = [0usize, 1, 2];
+        axes.sort_by(|&a, &b| spread(b).total_cmp(&spread(a)));
+        let (ax, ay) = (axes[0].min(axes[1]), axes[0].max(axes[1]));
+        let names = ["x", "y", "z"];
+        vec![(names[ax].to_string(), names[ay].to_string(), (0..n).collect(), positions.iter().map(|p| (p[ax], p[ay])).collect())]
+    };
+    let e_max = energies.iter().copied().filter(|e| e.is_finite()).fold(0.0f64, f64::max);
+    // pale (nothing) to dark red (the largest energy)
+    let shade = |e: f64| {
+        let t = if e_max > 0.0 { (e / e_max).clamp(0.0, 1.0) } else { 0.0 };
+        let lerp = |a: f64, b: f64| (a + (b - a) * t).round() as u8;
+        RGBColor(lerp(255.0, 140.0), lerp(235.0, 0.0), lerp(200.0, 0.0))
+    };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (760 + LEGEND_W, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+        let title_area = root.titled(title, ("sans-serif", 18)).map_err(|e| plot_err(path, e))?;
+        let (charts_area, bar_area) = title_area.split_horizontally(760);
+        let areas = charts_area.split_evenly((1, panels.len()));
+        let label_font = ("sans-serif", 10).into_font().color(&BLACK);
+        for ((x_desc, y_desc, idx, pts), area) in panels.iter().zip(&areas) {
+            // equal scales on both axes, so the surface keeps its shape
+            let (x0, x1) = range(pts.iter().map(|p| p.0), false);
+            let (y0, y1) = range(pts.iter().map(|p| p.1), false);
+            let half = 0.5 * (x1 - x0).max(y1 - y0);
+            let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+            let mut chart = ChartBuilder::on(area)
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(60)
+                .build_cartesian_2d(cx - half..cx + half, cy - half..cy + half)
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc.as_str())
+                .y_desc(y_desc.as_str())
+                .x_labels(5)
+                .y_labels(5)
+                .x_label_formatter(&|v: &f64| tick(*v, false, 0.0, 2.0 * half))
+                .y_label_formatter(&|v: &f64| tick(*v, false, 0.0, 2.0 * half))
+                .light_line_style(WHITE.mix(0.0))
+                .bold_line_style(BLACK.mix(0.12))
+                .draw()
+                .map_err(|e| plot_err(path, e))?;
+            let many = idx.len() > 40;
+            let r = if many { 4 } else { 8 };
+            for (&i, &p) in idx.iter().zip(pts) {
+                let e = energies[i];
+                if e > 0.0 {
+                    chart.draw_series(std::iter::once(Circle::new(p, r, shade(e).filled()))).map_err(|e| plot_err(path, e))?;
+                }
+                chart.draw_series(std::iter::once(Circle::new(p, r, BLACK.stroke_width(1)))).map_err(|e| plot_err(path, e))?;
+                if !many {
+                    chart.draw_series(std::iter::once(EmptyElement::at(p) + Text::new(format!("{}", i + 1), (10, -4), label_font.clone()))).map_err(|e| plot_err(path, e))?;
+                }
+            }
+        }
+        // the colour bar: energy from 0 (bottom) to the largest (top)
+        let font = ("sans-serif", 13).into_font().color(&BLACK);
+        bar_area.draw(&Text::new(energy_label.to_string(), (10, 30), font.clone())).map_err(|e| plot_err(path, e))?;
+        let (top, bottom) = (60i32, 420i32);
+        for k in 0..(bottom - top) {
+            let e = e_max * (1.0 - k as f64 / (bottom - top) as f64);
+            bar_area.draw(&Rectangle::new([(20, top + k), (50, top + k + 1)], shade(e).filled())).map_err(|e| plot_err(path, e))?;
+        }
+        bar_area.draw(&Rectangle::new([(20, top), (50, bottom)], BLACK.stroke_width(1))).map_err(|e| plot_err(path, e))?;
+        bar_area.draw(&Text::new(format!("{e_max:.3e}"), (58, top - 6), font.clone())).map_err(|e| plot_err(path, e))?;
+        bar_area.draw(&Text::new("0 (stuck or open:".to_string(), (58, bottom - 6), font.clone())).map_err(|e| plot_err(path, e))?;
+        bar_area.draw(&Text::new("empty circle)".to_string(), (58, bottom + 10), font)).map_err(|e| plot_err(path, e))?;
+        root.present().map_err(|e| plot_err(path, e))?;
+    }
+    jprom::io::write_file(path, |w| w.write_all(svg.as_bytes()))
 }

@@ -4,7 +4,7 @@
 //! each excitation level of each case, evaluates the error predictor, optionally
 //! studies error vs basis size (`basis.gamma_study`), and writes CSV, JSON and SVG results.
 
-use super::plots::{solver_color, write_plot, Dash, Legend, Marker, PlotSpec, Series, Style};
+use super::plots::{level_series, solver_color, write_energy_map, write_plot, Dash, Legend, Marker, PlotSpec, Series, Style};
 use plotters::style::RGBColor;
 use super::study::{CaseSpec, DampingSpec, FeSource, ModelSpec, Study};
 use jprom::contact::ContactLaw;
@@ -23,9 +23,9 @@ use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cy
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
 use jprom::level::stuck_limit;
 use jprom::jp::prediction::PredictionOptions;
-use jprom::jp::predict_basis;
+use jprom::jp::{predict_basis, JpBasis, PredictionReport};
 use jprom::model::{ContactCoordinates, Damping, Model};
-use jprom::rom::{adaptive_sweep_with_progress, reduced_model, AdaptiveOptions, RomKind};
+use jprom::rom::{adaptive_sweep_from, reduced_model, AdaptiveOptions, RomKind};
 use serde::{Deserialize, Serialize};
 use super::units::{run_units_threads, study_units, Unit, UnitKind};
 use std::io::Write;
@@ -43,19 +43,22 @@ pub struct SolverRow {
     /// Unknowns per harmonic (`n_0, n_1, ...`).
     pub sizes: Vec<usize>,
     pub points: usize,
-    /// Seconds for the sweep (for ROMs: basis prediction, reduced sweeps and corrections).
+    /// Seconds for the sweep (for ROMs: reduced sweeps, error checks and corrections, plus the
+    /// level's share of the case's shared basis prediction, its time over the number of levels).
     pub sweep_seconds: f64,
-    /// The part of `sweep_seconds` spent on the basis (ROMs; 0 for the full order): its
-    /// prediction, the ROM's construction with its first reduced point, and for each
-    /// correction the error checks that asked for it, its prediction and the new ROM.
+    /// The part of `sweep_seconds` spent on the basis (ROMs; 0 for the full order): the share
+    /// of the shared prediction, the ROM's construction with its first reduced point, and for
+    /// each correction the error checks that asked for it, its prediction and the new ROM.
     pub basis_seconds: f64,
     /// Basis corrections made by the self-correcting sweep (ROMs).
     pub corrections: usize,
-    /// Resonance (largest `X1` at the first output) frequency and amplitude.
+    /// Resonance (largest `X1` at the response output, `output.response`) frequency and amplitude.
     pub peak_hz: f64,
     pub peak_x1: f64,
     pub peak_x0: f64,
-    /// Relative errors against the full order at the full-order resonance (ROMs only).
+    /// Errors against the full order at the full-order resonance (ROMs only): of `|X1|` at the
+    /// response output, relative; of `X0`, the largest over the outputs relative to the
+    /// largest full-order `|X0|` there.
     pub error_x1: Option<f64>,
     pub error_x0: Option<f64>,
     /// Predicted `e*_1` and actual `e_1` there (ROMs only).
@@ -78,6 +81,10 @@ pub struct SolverRow {
     /// The largest error the self-correcting sweep judged its basis by, `max(e*_1, e_lin_1 at
     /// its checks)` over the final pass (ROMs only).
     pub worst_error: Option<f64>,
+    /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its
+    /// share of the shared basis) (ROMs only, when the full order ran).
+    #[serde(default)]
+    pub speed_up: Option<f64>,
     /// The parameter case (`[[cases]]`) of the row; empty (and not in `summary.json`) for a
     /// study without cases.
     #[serde(default, skip_serializing_if = "String::is_empty")]
@@ -94,7 +101,8 @@ pub struct BasisStudyRow {
     /// Reduced unknowns per harmonic `n_0, n_1, ...` of the ROM (for FR on a band-condensed
     /// basis about twice the JP basis' `n_1`, see [`FrRom::new`]).
     pub sizes: Vec<usize>,
-    /// Relative errors of `X1`, `X0` at the first output (`None`: the ROM did not converge).
+    /// Errors of `X1` and `X0` as [`SolverRow::error_x1`], `error_x0` (`None`: the ROM did not
+    /// converge).
     pub error_x1: Option<f64>,
     pub error_x0: Option<f64>,
     /// Predicted `e*_1` and actual `e_1`.
@@ -133,8 +141,9 @@ fn gamma_study(
             let rom = reduced_model(kind, coords, Some(condensed), &basis)?;
             let mut row = BasisStudyRow { level, solver: name.to_string(), gamma: g, sizes: rom.layout().sizes.clone(), error_x1: None, error_x0: None, predicted_e1: None, actual_e1: None, case: String::new() };
             if let Ok(r) = solve_point(rom.as_ref(), fo.omega, None, hopts) {
-                row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
-                row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+                let j = study.response_output();
+                row.error_x1 = Some(rel(r.output_amplitude(1, j), fo.output_amplitude(1, j)));
+                row.error_x0 = Some(static_error(&r, fo));
                 row.predicted_e1 = predicted_error(rom.as_ref(), plan, r.omega, &r.z)?.get(1).copied();
                 row.actual_e1 = actual_error(rom.as_ref(), plan, r.omega, &r.z, fo)?.get(1).copied();
             }
@@ -174,11 +183,69 @@ pub struct RunSummary {
     pub basis_study: Vec<BasisStudyRow>,
     /// Seconds spent on it (all levels).
     pub basis_study_seconds: f64,
+    /// The response output (index into the model's outputs): the peak, the FRF plots and the
+    /// errors of `X1` and `X0` are of it.
+    pub response_output: usize,
+    /// Each case's JP basis shared by its levels and ROMs (empty without ROMs).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub shared_bases: Vec<SharedBasisSummary>,
+    /// Per case and solver, the time over all levels and the full order's over it.
+    pub totals: Vec<SolverTotal>,
     /// The parameter cases (`[[cases]]`), each with its own stuck mode and level reference;
     /// empty (and not in `summary.json`) for a study without cases. With cases, the fields
     /// above about the stuck mode and the level reference are the first case's.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub cases: Vec<CaseSummary>,
+}
+
+/// A case's shared JP basis ([`RunSummary::shared_bases`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SharedBasisSummary {
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub case: String,
+    /// Basis sizes `n_h`, `gamma`, the contact-state patterns met and the samples.
+    pub sizes: Vec<usize>,
+    pub gamma: f64,
+    pub patterns: usize,
+    pub samples: usize,
+    pub seconds: f64,
+    /// Why it could not be predicted (then `sizes` is empty).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
+}
+
+/// A solver's time over all levels of a case ([`RunSummary::totals`]): for a ROM its sweeps,
+/// checks, corrections and the shared basis once; `speed_up` is the full order's total over
+/// it (ROMs, when the full order ran at every level).
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverTotal {
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub case: String,
+    pub solver: String,
+    pub seconds: f64,
+    pub speed_up: Option<f64>,
+}
+
+/// Speed-ups of the ROM rows against the full-order row of their level, and each solver's
+/// total over the levels (`rows` of one case).
+fn speed_ups(rows: &mut [SolverRow], case: &str) -> Vec<SolverTotal> {
+    let fo: Vec<(f64, f64)> = rows.iter().filter(|r| r.solver.starts_with("FO") && r.points > 0).map(|r| (r.level, r.sweep_seconds)).collect();
+    for r in rows.iter_mut().filter(|r| !r.solver.starts_with("FO") && r.points > 0 && r.sweep_seconds > 0.0) {
+        r.speed_up = fo.iter().find(|f| f.0 == r.level).map(|f| f.1 / r.sweep_seconds);
+    }
+    let mut totals: Vec<SolverTotal> = Vec::new();
+    for r in rows.iter() {
+        match totals.iter_mut().find(|t| t.solver == r.solver) {
+            Some(t) => t.seconds += r.sweep_seconds,
+            None => totals.push(SolverTotal { case: case.to_string(), solver: r.solver.clone(), seconds: r.sweep_seconds, speed_up: None }),
+        }
+    }
+    let levels = rows.iter().filter(|r| r.solver.starts_with("FO")).count();
+    let fo_total = (fo.len() == levels && levels > 0).then(|| fo.iter().map(|f| f.1).sum::<f64>());
+    for t in totals.iter_mut().filter(|t| !t.solver.starts_with("FO")) {
+        t.speed_up = fo_total.map(|f| f / t.seconds);
+    }
+    totals
 }
 
 /// A parameter case's own figures ([`RunSummary::cases`]).
@@ -221,6 +288,12 @@ pub fn build_model_with(study: &Study, progress: Progress) -> Result<Model> {
 /// # Errors
 /// As [`build_model_with`].
 pub fn build_case_models(study: &Study, cases: &[CaseSpec], progress: Progress) -> Result<Vec<Model>> {
+    build_case_models_placed(study, cases, progress).map(|(models, _)| models)
+}
+
+/// [`build_case_models`], and the coordinates of the contact nodes in the models' contact order
+/// (empty when the FE model has no node coordinates).
+fn build_case_models_placed(study: &Study, cases: &[CaseSpec], progress: Progress) -> Result<(Vec<Model>, Vec<[f64; 3]>)> {
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
     let named = |case: &CaseSpec, what: &str| if case.name.is_empty() { what.to_string() } else { format!("case {}: {what}", case.name) };
     match &study.model {
@@ -229,6 +302,7 @@ pub fn build_case_models(study: &Study, cases: &[CaseSpec], progress: Progress) 
             let step = progress.step(format!("building the built-in blade (refinement {refinement})"));
             let fe = BuiltinBlade::build(&params)?;
             step.done_with(&format!(", {} DoFs", fe.n_dof()));
+            let positions: Vec<[f64; 3]> = fe.contacts.iter().map(|c| fe.coords[c.node]).collect();
             let step = progress.step(format!("Craig-Bampton ({cb_modes} fixed-interface modes)"));
             let mut cb = fe.reduce(*cb_modes)?;
             step.done();
@@ -256,10 +330,11 @@ pub fn build_case_models(study: &Study, cases: &[CaseSpec], progress: Progress) 
                 case.damping(damping).apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
                 models.push(model);
             }
-            Ok(models)
+            Ok((models, positions))
         }
         ModelSpec::Fe(_) => {
             let read = read_fe_model(study, progress)?;
+            let positions: Vec<[f64; 3]> = read.reduction.contacts.iter().map(|c| read.fe.node(c.node).ok().and_then(|n| n.coords)).collect::<Option<Vec<_>>>().unwrap_or_default();
             let undamped = reduce_fe_model_undamped(&read, progress)?;
             let mut models = Vec::with_capacity(cases.len());
             for case in cases {
@@ -278,7 +353,7 @@ pub fn build_case_models(study: &Study, cases: &[CaseSpec], progress: Progress) 
                 case.damping(&read.damping).apply(&mut model, centre).map_err(|e| with_key("model.damping", e))?;
                 models.push(model);
             }
-            Ok(models)
+            Ok((models, positions))
         }
     }
 }
@@ -445,6 +520,7 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         complete: false,
         warnings: vec![format!("failed: {why}")],
         worst_error: None,
+        speed_up: None,
         case: String::new(),
     }
 }
@@ -489,8 +565,9 @@ fn end_reason(res: &SweepResult) -> String {
     }
 }
 
-fn peak(points: &[PointSolution]) -> Option<&PointSolution> {
-    points.iter().max_by(|a, b| a.output_amplitude(1, 0).total_cmp(&b.output_amplitude(1, 0)))
+/// The point of largest first-harmonic amplitude of output `j` (the study's response).
+fn peak(points: &[PointSolution], j: usize) -> Option<&PointSolution> {
+    points.iter().max_by(|a, b| a.output_amplitude(1, j).total_cmp(&b.output_amplitude(1, j)))
 }
 
 fn state_counts(p: &PointSolution) -> [usize; 3] {
@@ -600,6 +677,17 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
 }
 
+/// The error of the static term `X0` of `r` against the full-order point `fo`: the largest
+/// difference over the outputs relative to the largest `|X0|` of the full order over them (the
+/// response output's own `X0` can be near zero, as the blade's tip flap under its pre-twist
+/// couple, where a relative error means nothing).
+fn static_error(r: &PointSolution, fo: &PointSolution) -> f64 {
+    let outputs = r.n_outputs.min(fo.n_outputs);
+    let scale = (0..outputs).map(|k| fo.output_coeff(0, k).abs()).fold(0.0, f64::max);
+    let diff = (0..outputs).map(|k| (r.output_coeff(0, k) - fo.output_coeff(0, k)).abs()).fold(0.0, f64::max);
+    diff / scale.max(f64::MIN_POSITIVE)
+}
+
 /// Energy errors of the ROM rows, relative to the largest energy per contact node met in the
 /// study (never round-off: a stuck contact dissipates exactly zero); a level without slip says
 /// so. `energies_at_peak`: per ROM row (index into `rows`), the FO and ROM energies per contact.
@@ -614,32 +702,42 @@ fn energy_errors(rows: &mut [SolverRow], energies_at_peak: &[(usize, Vec<f64>, V
     }
 }
 
+/// The response output in words, for plot labels: `the tip (flap)` for the blade's default,
+/// else `output j`.
+fn response_words(study: &Study) -> String {
+    let j = study.response_output();
+    if matches!(study.model, ModelSpec::Blade { .. }) && j == super::study::BLADE_TIP_FLAP_OUTPUT {
+        "the tip (flap)".into()
+    } else {
+        format!("output {j}")
+    }
+}
+
 /// The study's figures: FRF and dissipated energy per level, predicted vs actual error and
 /// error vs level over the levels, error vs basis size per level (gamma study).
-#[allow(clippy::too_many_arguments)]
-fn write_study_plots(
-    study: &Study,
-    out_dir: &Path,
-    summary: &CaseRows,
-    frf_series: &[(f64, Vec<Series>)],
-    frf0_series: &[(f64, Vec<Series>)],
-    energy_series: &[(f64, Vec<Series>)],
-    e_star_series: &[(f64, Vec<Series>)],
-    err_points: Vec<(String, Vec<(f64, f64)>)>,
-) -> Result<()> {
+fn write_study_plots(study: &Study, out_dir: &Path, summary: &CaseRows, plots: &CasePlots) -> Result<()> {
+    let CasePlots { frf: frf_series, frf0: frf0_series, energy: energy_series, e_star: e_star_series, .. } = plots;
+    let err_points = plots.err_points.clone();
     let h = study.hbm.harmonics;
     let (len_unit, energy_unit) = units(study);
     // a case's files are prefixed with its name
     let file = |name: String| out_dir.join(format!("{}{name}", summary.prefix));
-    let x1_label = format!("|X1| at the first output [{len_unit}]");
+    let response = response_words(study);
+    let x1_label = format!("|X1| at {response} [{len_unit}]");
     for (level, series) in frf_series {
-        let title = format!("First harmonic at the first output, alpha = alpha_ST x {level:e}, H = {h}");
+        let title = format!("First harmonic at {response}, alpha = alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x1_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
         write_plot(&file(format!("frf_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
-    let x0_label = format!("X0 at the first output [{len_unit}]");
+    if study.forcing.levels.len() > 1 && !plots.levels.is_empty() {
+        let title = format!("First harmonic per unit forcing at every level (|X1| / s, s the dynamic scale), H = {h}");
+        let y_label = format!("|X1| / s at {response} [{len_unit}]");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &y_label, log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        write_plot(&file("frf_levels.svg".to_string()), &spec, &plots.levels)?;
+    }
+    let x0_label = format!("X0 at {response} [{len_unit}]");
     for (level, series) in frf0_series {
-        let title = format!("Static term at the first output, alpha = alpha_ST x {level:e}, H = {h}");
+        let title = format!("Static term at {response}, alpha = alpha_ST x {level:e}, H = {h}");
         let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: &x0_label, log_x: false, log_y: false, diagonal: false, legend: Legend::UpperRight };
         write_plot(&file(format!("frf_x0_alpha_ST_x{level:e}.svg")), &spec, series)?;
     }
@@ -653,6 +751,12 @@ fn write_study_plots(
         let energy_label = format!("energy per cycle [{energy_unit}]");
         let spec = PlotSpec { title: &title, x_label: "contact node (study order)", y_label: &energy_label, log_x: false, log_y: false, diagonal: false, legend: Legend::MiddleRight };
         write_plot(&file(format!("energy_alpha_ST_x{level:e}.svg")), &spec, series)?;
+        // beside it, where those nodes are: the full order's energies on the contact nodes
+        if let Some(fo) = series.iter().find(|s| s.label.starts_with("FO")).filter(|s| s.points.len() == plots.positions.len()) {
+            let energies: Vec<f64> = fo.points.iter().map(|p| p.1).collect();
+            let title = format!("FO dissipated energy on the contact nodes at the FO resonance, alpha_ST x {level:e}, H = {h}");
+            write_energy_map(&file(format!("energy_map_alpha_ST_x{level:e}.svg")), &title, &plots.positions, &plots.frames, &energies, &energy_label)?;
+        }
     }
     if !err_points.is_empty() {
         // the gamma study's points first (light), the levels' over them
@@ -765,9 +869,9 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
     }
     let secs = t.elapsed().as_secs_f64();
     c.files.push((format!("{tag}_fo.csv"), csv_bytes(&res, None, units(run.study))?));
-    let p = peak(&res.points).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
-    series.frf.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-    series.frf0.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, 0))).collect(), true));
+    let p = peak(&res.points, run.response).ok_or_else(|| JpError::invalid("full-order sweep", "no point"))?.clone();
+    series.frf.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, run.response))).collect(), true));
+    series.frf0.push(SolverSeries::new("FO (condensed)", res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, run.response))).collect(), true));
     series.energies.push(SolverSeries::new("FO (condensed)", p.contact_cycles.iter().enumerate().map(|(i, c)| (i as f64 + 1.0, c.dissipated_energy)).collect(), false));
     let warnings = sweep_warnings(&res, &p, run.band);
     let edge = peak_on_edge(&res, &p, run.band).map(|edge| {
@@ -784,8 +888,8 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         basis_seconds: 0.0,
         corrections: 0,
         peak_hz: p.omega / TWO_PI,
-        peak_x1: p.output_amplitude(1, 0),
-        peak_x0: p.output_coeff(0, 0),
+        peak_x1: p.output_amplitude(1, run.response),
+        peak_x0: p.output_coeff(0, run.response),
         error_x1: None,
         error_x0: None,
         predicted_e1: None,
@@ -796,6 +900,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         complete: res.reached_end(),
         warnings,
         worst_error: None,
+        speed_up: None,
         case: String::new(),
     });
     Ok(Some(FoPeak { point: p, warning, edge }))
@@ -810,7 +915,7 @@ fn reduced_level(
     level: f64,
     tag: &str,
     (name, kind): (&str, RomKind),
-    model: &Model,
+    start: &SharedBasis,
     coords: &ContactCoordinates,
     condensed: &CondensedSystem,
     fo_peak: Option<&FoPeak>,
@@ -819,18 +924,27 @@ fn reduced_level(
 ) -> Result<()> {
     // the self-correcting workflow: predicted basis, reduced sweep, e* at every point,
     // regeneration from the worst reduced point (or a larger gamma) while e*_1 > threshold
-    let aopts = AdaptiveOptions { kind, threshold: run.study.basis.error_threshold, max_corrections: run.study.basis.max_corrections, ..AdaptiveOptions::default() };
+    let aopts = AdaptiveOptions {
+        kind,
+        threshold: run.study.basis.error_threshold,
+        max_corrections: run.study.basis.max_corrections,
+        response_output: run.response,
+        ..AdaptiveOptions::default()
+    };
     let t = Instant::now();
-    // the basis time: from the start to the first reduced point (prediction, the ROM's
-    // construction and its first solve), and between the last point of a pass and the
-    // first of the next (the error checks that judged the pass, the correction's
-    // prediction, the new ROM); the reduced continuation steps are the rest
-    let mut basis_step = Some(run.progress.step(format!("{name} basis prediction, alpha_ST x {level:e}")));
+    // the basis time: this level's share of the shared prediction (one of the study's
+    // levels), from the start to the first reduced point (the ROM's construction and its first
+    // solve), and between the last point of a pass and the first of the next (the error checks
+    // that judged the pass, the correction's prediction, the new ROM); the reduced
+    // continuation steps are the rest
+    let share = start.seconds / run.study.forcing.levels.len().max(1) as f64;
+    let mut basis_step = Some(run.progress.step(format!("{name} reduced model, alpha_ST x {level:e}")));
     let mut points: Option<jprom_progress::Points> = None;
     let mut pass_now = usize::MAX;
     let mut since = Instant::now();
     let mut basis_seconds = 0.0;
-    let adaptive = adaptive_sweep_with_progress(model, &run.popts, &run.sopts, &run.hopts, &aopts, &mut |pass, p| {
+    let initial = (start.basis.clone(), start.prediction.clone());
+    let adaptive = adaptive_sweep_from(coords, Some(condensed), initial, &run.popts, &run.sopts, &run.hopts, &aopts, &mut |pass, p| {
         if pass != pass_now {
             let gap = since.elapsed().as_secs_f64();
             basis_seconds += gap;
@@ -860,17 +974,18 @@ fn reduced_level(
             return Ok(());
         }
     };
-    let secs = t.elapsed().as_secs_f64();
+    let secs = t.elapsed().as_secs_f64() + share;
+    basis_seconds += share;
     let basis = &adaptive.basis;
     let rom = reduced_model(kind, coords, Some(condensed), basis)?;
     let res = &adaptive.sweep;
     let errors = &adaptive.predicted_errors;
     c.files.push((format!("{tag}_{}.csv", name.to_lowercase()), csv_bytes(res, Some(errors), units(run.study))?));
     let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
-    series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, 0))).collect(), true));
-    series.frf0.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, 0))).collect(), true));
+    series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, run.response))).collect(), true));
+    series.frf0.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, run.response))).collect(), true));
     series.e_stars.push(SolverSeries::new(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
-    let p = peak(&res.points).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
+    let p = peak(&res.points, run.response).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
     let mut warnings = sweep_warnings(res, p, run.band);
     if adaptive.worst_error > aopts.threshold {
         warnings.push(format!(
@@ -890,8 +1005,8 @@ fn reduced_level(
         basis_seconds,
         corrections: adaptive.corrections.len(),
         peak_hz: p.omega / TWO_PI,
-        peak_x1: p.output_amplitude(1, 0),
-        peak_x0: p.output_coeff(0, 0),
+        peak_x1: p.output_amplitude(1, run.response),
+        peak_x0: p.output_coeff(0, run.response),
         error_x1: None,
         error_x0: None,
         predicted_e1: None,
@@ -902,6 +1017,7 @@ fn reduced_level(
         complete: res.reached_end(),
         warnings,
         worst_error: Some(adaptive.worst_error),
+        speed_up: None,
         case: String::new(),
     };
     if let Some(FoPeak { point: fo, warning: fo_warning, edge: fo_edge }) = fo_peak {
@@ -915,8 +1031,9 @@ fn reduced_level(
                 return Ok(());
             }
         };
-        row.error_x1 = Some(rel(r.output_amplitude(1, 0), fo.output_amplitude(1, 0)));
-        row.error_x0 = Some(rel(r.output_coeff(0, 0), fo.output_coeff(0, 0)));
+        let j = run.response;
+        row.error_x1 = Some(rel(r.output_amplitude(1, j), fo.output_amplitude(1, j)));
+        row.error_x0 = Some(static_error(&r, fo));
         let e_star = predicted_error(rom.as_ref(), &run.plan, r.omega, &r.z)?;
         let e = actual_error(rom.as_ref(), &run.plan, r.omega, &r.z, fo)?;
         row.predicted_e1 = e_star.get(1).copied();
@@ -948,6 +1065,8 @@ struct Run<'a> {
     sopts: SweepOptions,
     plan: AftPlan,
     popts: PredictionOptions,
+    /// The response output ([`Study::response_output`]).
+    response: usize,
 }
 
 /// What one unit adds to the study: its table rows, its full-order peak's energies per contact
@@ -966,7 +1085,7 @@ struct Collected {
 #[derive(Default)]
 struct LevelSeries {
     frf: Vec<SolverSeries>,
-    /// The static term `X0` at the first output along each sweep (the paper's Fig. 3c/d).
+    /// The static term `X0` at the response output along each sweep (the paper's Fig. 3c/d).
     frf0: Vec<SolverSeries>,
     energies: Vec<SolverSeries>,
     e_stars: Vec<SolverSeries>,
@@ -1028,6 +1147,48 @@ pub struct CaseShared {
     pub stuck_limit_force: f64,
     pub level_reference: String,
     pub warnings: Vec<String>,
+    /// The JP basis every ROM of the case starts from, predicted once at the largest
+    /// excitation of the study ([`shared_basis`]), or why it could not be (the ROM rows then
+    /// fail with it). `None` when the study runs no ROM.
+    pub basis: Option<std::result::Result<SharedBasis, String>>,
+    /// The contact nodes' coordinates in contact order (empty when the FE model has none),
+    /// for the energy map.
+    pub contact_positions: Vec<[f64; 3]>,
+}
+
+/// The JP basis shared by a case's levels and ROMs, and how long its prediction took.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SharedBasis {
+    pub basis: JpBasis,
+    pub prediction: PredictionReport,
+    pub seconds: f64,
+}
+
+/// The prediction options of a study: its band, `gamma`, samples and modes beyond the band.
+fn prediction_options(study: &Study) -> PredictionOptions {
+    let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
+    let mut popts = PredictionOptions::new(band);
+    popts.gamma = study.basis.gamma;
+    popts.n_samples = study.basis.samples;
+    popts.modes.extra_outside = study.basis.extra_modes;
+    popts
+}
+
+/// The JP basis predicted from the stuck mode at the largest excitation of the study (the
+/// largest of `scales`): its samples of the generating amplitude run from the onset of slip to
+/// that level's linear stuck response, so they span the contact patterns of every smaller
+/// excitation too, and one prediction serves every level and both ROMs (each level's
+/// self-correcting sweep then corrects it for itself).
+///
+/// # Errors
+/// The prediction's errors.
+pub fn shared_basis(study: &Study, model: &Model, scales: &[f64], plan: &AftPlan) -> Result<SharedBasis> {
+    let t = Instant::now();
+    let mut m = model.clone();
+    m.excitation.dynamic_scale = scales.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let coords = ContactCoordinates::new(&m, study.hbm.harmonics)?;
+    let (basis, prediction) = predict_basis(&coords, plan, &prediction_options(study))?;
+    Ok(SharedBasis { basis, prediction, seconds: t.elapsed().as_secs_f64() })
 }
 
 /// Builds what every unit shares ([`Shared`]): the cases' models ([`build_case_models`]), and
@@ -1041,7 +1202,7 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
     let cases = study.case_list();
-    let models = build_case_models(study, &cases, progress)?;
+    let (models, positions) = build_case_models_placed(study, &cases, progress)?;
     let mut out = Vec::with_capacity(cases.len());
     for (case, model) in cases.iter().zip(models) {
         let step = progress.step(if case.name.is_empty() { "stuck mode and level reference".to_string() } else { format!("case {}: stuck mode and level reference", case.name) });
@@ -1065,6 +1226,20 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
             warnings.extend(warning.map(|w| format!("{of_case}{w}")));
         }
         let scales = study.forcing.levels.iter().map(|&level| limit.scale_at(level)).collect::<Result<Vec<f64>>>()?;
+        let response = study.response_output();
+        if response >= model.output_dofs.len() {
+            return Err(JpError::invalid("output.response", format!("output {response} does not exist: the model has {} outputs (0 to {})", model.output_dofs.len(), model.output_dofs.len().saturating_sub(1))));
+        }
+        let contact_positions = if positions.len() == model.contacts.len() { positions.clone() } else { Vec::new() };
+        let basis = (!rom_kinds(study).is_empty()).then(|| {
+            let step = progress.step(if case.name.is_empty() { "JP basis for every level".to_string() } else { format!("case {}: JP basis for every level", case.name) });
+            let b = shared_basis(study, &model, &scales, &plan);
+            match &b {
+                Ok(b) => step.done_with(&format!(", n_h = {:?} from {} contact-state patterns", b.basis.sizes, b.prediction.n_patterns)),
+                Err(e) => step.done_with(&format!(", failed: {e}")),
+            }
+            b.map_err(|e| e.to_string())
+        });
         out.push(CaseShared {
             name: case.name.clone(),
             overrides: case.describe(),
@@ -1076,6 +1251,8 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
             stuck_limit_force: limit.force,
             level_reference: limit.describe(),
             warnings,
+            basis,
+            contact_positions,
         });
     }
     Ok(Shared { cases: out, build_seconds: t.elapsed().as_secs_f64() })
@@ -1089,7 +1266,6 @@ fn rom_kinds(study: &Study) -> Vec<(&'static str, RomKind)> {
 /// A level's systems, built by the first unit of the level that a process runs and shared by
 /// its others (as the serial loop built them once per level).
 struct LevelSystems {
-    model: Model,
     coords: ContactCoordinates,
     condensed: CondensedSystem,
 }
@@ -1111,16 +1287,13 @@ impl<'a> UnitRunner<'a> {
     pub fn new(study: &'a Study, shared: &'a Shared, progress: Progress) -> Result<Self> {
         let h = study.hbm.harmonics;
         let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
-        let mut popts = PredictionOptions::new(band);
-        popts.gamma = study.basis.gamma;
-        popts.n_samples = study.basis.samples;
-        popts.modes.extra_outside = study.basis.extra_modes;
+        let popts = prediction_options(study);
         let plan = AftPlan::new(h, study.hbm.nt)?;
         // about `points` points where the response is smooth, more at resonances and folds
         let sopts = study.band.sweep_options();
         sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
         let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
-        let run = Run { study, progress, hopts, band, sopts, plan, popts };
+        let run = Run { study, progress, hopts, band, sopts, plan, popts, response: study.response_output() };
         let levels = (0..shared.cases.len() * study.forcing.levels.len()).map(|_| std::sync::OnceLock::new()).collect();
         Ok(UnitRunner { run, shared, kinds: rom_kinds(study), levels })
     }
@@ -1137,7 +1310,7 @@ impl<'a> UnitRunner<'a> {
                 // the transformed forces carry the excitation level: built for this level
                 let coords = ContactCoordinates::new(&model, self.run.study.hbm.harmonics)?;
                 let condensed = CondensedSystem::new(&model, &self.run.hopts)?;
-                Ok(LevelSystems { model, coords, condensed })
+                Ok(LevelSystems { coords, condensed })
             })
             .as_ref()
             .map_err(Clone::clone)
@@ -1162,7 +1335,11 @@ impl<'a> UnitRunner<'a> {
             UnitKind::FullOrder => out.fo_peak = full_order_level(&self.run, level, &tag, &sys.condensed, &mut c, &mut series)?,
             UnitKind::Fr | UnitKind::Nlr => {
                 let kind = if unit.kind == UnitKind::Fr { ("FR", RomKind::Fr) } else { ("NLR", RomKind::Nlr) };
-                reduced_level(&self.run, level, &tag, kind, &sys.model, &sys.coords, &sys.condensed, fo, &mut c, &mut series)?;
+                match &self.shared.cases[unit.case_index].basis {
+                    Some(Ok(start)) => reduced_level(&self.run, level, &tag, kind, start, &sys.coords, &sys.condensed, fo, &mut c, &mut series)?,
+                    Some(Err(why)) => c.rows.push(failed_row_because(level, kind.0, Vec::new(), &format!("the JP basis could not be predicted: {why}"))),
+                    None => c.rows.push(failed_row_because(level, kind.0, Vec::new(), "no JP basis was predicted for this case")),
+                }
             }
             UnitKind::GammaStudy => {
                 if let Some(fo) = fo {
@@ -1233,6 +1410,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
     let kinds = rom_kinds(study);
     let mut rows: Vec<SolverRow> = Vec::new();
     let mut basis_study: Vec<BasisStudyRow> = Vec::new();
+    let mut totals: Vec<SolverTotal> = Vec::new();
     let mut basis_study_seconds = 0.0;
     let mut outputs = outputs.into_iter().zip(study_units).peekable();
     // each case on its own (energies relative to the case's largest, its plots and
@@ -1242,6 +1420,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         let mut c = Collected::default();
         let (mut frf_series, mut frf0_series, mut energy_series, mut e_star_series) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut case_basis_study: Vec<BasisStudyRow> = Vec::new();
+        let mut levels_series: Vec<Series> = Vec::new();
         for (i, &level) in study.forcing.levels.iter().enumerate() {
             let mut series = LevelSeries::default();
             while let Some((out, _)) = outputs.next_if(|(_, u)| u.case_index == ci && u.level_index == i) {
@@ -1264,6 +1443,12 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
                 case_basis_study.extend(out.basis_study);
                 basis_study_seconds += out.basis_study_seconds;
             }
+            // every level on one chart, the response per unit of the dynamic scale
+            let scale = case.scales[i];
+            for sv in &series.frf {
+                let label = format!("{}, alpha_ST x {level:.1e}", sv.label.split(',').next().unwrap_or(&sv.label));
+                levels_series.push(level_series(label, i, sv.points.iter().map(|&(f, x)| (f, x / scale)).collect()));
+            }
             let plot = |v: Vec<SolverSeries>| v.into_iter().map(SolverSeries::series).collect::<Vec<Series>>();
             frf_series.push((level, plot(series.frf)));
             frf0_series.push((level, plot(series.frf0)));
@@ -1274,8 +1459,21 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         }
         let Collected { rows: mut case_rows, energies_at_peak, err_points, .. } = c;
         energy_errors(&mut case_rows, &energies_at_peak);
+        totals.extend(speed_ups(&mut case_rows, &case.name));
         let prefix = if case.name.is_empty() { String::new() } else { format!("{}_", case.name) };
-        case_plots.push((prefix, rows.len()..rows.len() + case_rows.len(), basis_study.len()..basis_study.len() + case_basis_study.len(), frf_series, frf0_series, energy_series, e_star_series, err_points));
+        case_plots.push(CasePlots {
+            prefix,
+            rows: rows.len()..rows.len() + case_rows.len(),
+            basis_rows: basis_study.len()..basis_study.len() + case_basis_study.len(),
+            frf: frf_series,
+            frf0: frf0_series,
+            energy: energy_series,
+            e_star: e_star_series,
+            err_points,
+            levels: levels_series,
+            positions: case.contact_positions.clone(),
+            frames: case.model.contacts.iter().map(|c| c.frame).collect(),
+        });
         rows.extend(case_rows);
         basis_study.extend(case_basis_study);
     }
@@ -1306,6 +1504,27 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         rows,
         basis_study,
         basis_study_seconds,
+        response_output: study.response_output(),
+        shared_bases: shared
+            .cases
+            .iter()
+            .filter_map(|c| {
+                let b = c.basis.as_ref()?;
+                Some(match b {
+                    Ok(b) => SharedBasisSummary {
+                        case: c.name.clone(),
+                        sizes: b.basis.sizes.clone(),
+                        gamma: b.basis.gamma,
+                        patterns: b.prediction.n_patterns,
+                        samples: b.prediction.n_samples,
+                        seconds: b.seconds,
+                        failed: None,
+                    },
+                    Err(why) => SharedBasisSummary { case: c.name.clone(), sizes: Vec::new(), gamma: study.basis.gamma, patterns: 0, samples: study.basis.samples, seconds: 0.0, failed: Some(why.clone()) },
+                })
+            })
+            .collect(),
+        totals,
         cases: if named {
             shared
                 .cases
@@ -1325,16 +1544,36 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         },
     };
     jprom::io::write_file(&out_dir.join("summary.json"), |w| serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::from))?;
-    for (prefix, rows, basis_rows, frf_series, frf0_series, energy_series, e_star_series, err_points) in case_plots {
-        let case = CaseRows { prefix: &prefix, rows: &summary.rows[rows], basis_study: &summary.basis_study[basis_rows] };
+    for plots in case_plots {
+        let case = CaseRows { prefix: &plots.prefix, rows: &summary.rows[plots.rows.clone()], basis_study: &summary.basis_study[plots.basis_rows.clone()] };
         if study.output.plots {
-            write_study_plots(study, out_dir, &case, &frf_series, &frf0_series, &energy_series, &e_star_series, err_points)?;
+            write_study_plots(study, out_dir, &case, &plots)?;
         }
         if !case.basis_study.is_empty() {
-            write_basis_study_csv(&out_dir.join(format!("{prefix}basis_study.csv")), case.basis_study)?;
+            write_basis_study_csv(&out_dir.join(format!("{}basis_study.csv", plots.prefix)), case.basis_study)?;
         }
     }
     Ok(summary)
+}
+
+/// A case's curves for its plots, gathered from its units ([`write_study_plots`]).
+struct CasePlots {
+    /// The prefix of its files, its rows and gamma-study rows in the summary.
+    prefix: String,
+    rows: std::ops::Range<usize>,
+    basis_rows: std::ops::Range<usize>,
+    /// Per level: FRF (`|X1|`), static term, energy per contact, `e*_1` along the ROM sweeps.
+    frf: Vec<(f64, Vec<Series>)>,
+    frf0: Vec<(f64, Vec<Series>)>,
+    energy: Vec<(f64, Vec<Series>)>,
+    e_star: Vec<(f64, Vec<Series>)>,
+    /// (actual, predicted) error pairs per ROM.
+    err_points: Vec<(String, Vec<(f64, f64)>)>,
+    /// Every level's FRFs per unit of the dynamic scale, on one chart.
+    levels: Vec<Series>,
+    /// The contact nodes' coordinates and frames (empty: no energy map).
+    positions: Vec<[f64; 3]>,
+    frames: Vec<[[f64; 3]; 3]>,
 }
 
 /// A case's part of the summary and the prefix of its files (empty without `[[cases]]`).
@@ -1407,21 +1646,38 @@ pub fn summary_table(s: &RunSummary) -> String {
     for w in &s.warnings {
         out.push_str(&format!("(!) {w}\n"));
     }
+    let mut levels: Vec<f64> = s.rows.iter().map(|r| r.level).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    let n_levels = levels.len().max(1);
+    for b in &s.shared_bases {
+        let of_case = if b.case.is_empty() { String::new() } else { format!(" of case {}", b.case) };
+        match &b.failed {
+            None => out.push_str(&format!(
+                "JP basis{of_case}, predicted once for every level and ROM: n_h = {:?}, gamma = {:e}, {} contact-state patterns from {} samples, {:.2} s (each ROM row's time counts 1/{n_levels} of it)\n",
+                b.sizes, b.gamma, b.patterns, b.samples, b.seconds
+            )),
+            Some(why) => out.push_str(&format!("(!) JP basis{of_case}: could not be predicted: {why}\n")),
+        }
+    }
+    out.push_str(&format!("response: output {}{}\n", s.response_output, if s.length_unit == "mm" && s.response_output == super::study::BLADE_TIP_FLAP_OUTPUT { " (the blade's tip, flap direction)" } else { "" }));
     out.push_str(&format!(
-        "{}{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+        "{}{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
         case_col("case"),
-        "a/a_ST", "solver", "n_h", "points", "time s", "basis s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
+        "a/a_ST", "solver", "n_h", "points", "time s", "speed-up", "basis s", "fixes", "peak Hz", "peak |X1|", "err X1", "err X0", "e*_1", "e_1", "err W", "end"
     ));
     let opt = |v: Option<f64>| v.map(|x| format!("{x:.2e}")).unwrap_or_else(|| "-".into());
+    let times = |v: Option<f64>| v.map(|x| format!("{x:.1}x")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{}{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            "{}{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
             case_col(&r.case),
             r.level,
             r.solver,
             format!("{:?}", r.sizes),
             r.points,
             r.sweep_seconds,
+            times(r.speed_up),
             r.basis_seconds,
             r.corrections,
             r.peak_hz,
@@ -1433,6 +1689,25 @@ pub fn summary_table(s: &RunSummary) -> String {
             opt(r.energy_error),
             if r.warnings.is_empty() { r.end.clone() } else { format!("{} (!)", r.end) }
         ));
+    }
+    let mut by_case: Vec<&str> = Vec::new();
+    for t in &s.totals {
+        if !by_case.contains(&t.case.as_str()) {
+            by_case.push(&t.case);
+        }
+    }
+    for case in by_case {
+        let of_case = if case.is_empty() { String::new() } else { format!(" of case {case}") };
+        let parts: Vec<String> = s
+            .totals
+            .iter()
+            .filter(|t| t.case == case)
+            .map(|t| match t.speed_up {
+                Some(x) => format!("{} {:.1} s ({x:.1}x faster)", t.solver, t.seconds),
+                None => format!("{} {:.1} s", t.solver, t.seconds),
+            })
+            .collect();
+        out.push_str(&format!("all levels{of_case}, the shared basis included: {}\n", parts.join(", ")));
     }
     let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty()).collect();
     if !flagged.is_empty() {

@@ -830,13 +830,21 @@ pub struct OutputSpec {
     /// Exit with success even when a sweep did not cover the band (default false: `jprom run`
     /// then exits with status 3 after writing what it has).
     pub keep_partial: bool,
+    /// The response: the output (index into the model's outputs, node-major) whose amplitude
+    /// locates the resonance, is plotted and is compared ([`Study::response_output`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub response: Option<usize>,
 }
 
 impl Default for OutputSpec {
     fn default() -> Self {
-        OutputSpec { dir: PathBuf::from("jprom-out"), plots: true, keep_partial: false }
+        OutputSpec { dir: PathBuf::from("jprom-out"), plots: true, keep_partial: false, response: None }
     }
 }
+
+/// The built-in blade's response output: the flap (`y`) displacement of the tip output node
+/// (the last of its 9 output nodes, 3 outputs each).
+pub const BLADE_TIP_FLAP_OUTPUT: usize = 8 * 3 + 1;
 
 fn fifty() -> usize {
     50
@@ -1254,6 +1262,16 @@ impl Study {
         } else {
             self.cases.clone()
         }
+    }
+
+    /// The response output: `output.response`, else the blade's tip flap displacement
+    /// ([`BLADE_TIP_FLAP_OUTPUT`]) or an FE model's first output (the first component of its
+    /// first output node).
+    pub fn response_output(&self) -> usize {
+        self.output.response.unwrap_or(match self.model {
+            ModelSpec::Blade { .. } => BLADE_TIP_FLAP_OUTPUT,
+            _ => 0,
+        })
     }
 }
 

@@ -135,8 +135,9 @@ fn a_study_with_cases_gives_the_same_files_with_two_jobs_and_each_case_its_own_r
     let (code, out, dir) = run_text("two_cases_plain.toml", plain, "cases-plain", "2");
     assert_eq!(code, 0, "{out}");
     let plain_files: Vec<String> = files(&dir, ".csv").into_iter().chain(files(&dir, ".svg")).collect();
-    // 6 CSVs; per level FRF of X1 and of X0, energy, e*_1; predicted vs actual, error vs level
-    assert_eq!(plain_files.len(), 6 + 10, "{plain_files:?}");
+    // 6 CSVs; per level FRF of X1 and of X0, energy, its map, e*_1; predicted vs actual, error
+    // vs level, the levels together
+    assert_eq!(plain_files.len(), 6 + 13, "{plain_files:?}");
     for f in &plain_files {
         let a = std::fs::read(dir.join(f)).unwrap();
         let b = std::fs::read(dir1.join(format!("base_{f}"))).unwrap_or_default();

@@ -1,6 +1,6 @@
 //! The SVG writer produces a well-formed picture holding the series, labels and the diagonal.
 
-use jprom_cli::plots::{write_plot, Legend, PlotSpec, Series};
+use jprom_cli::plots::{level_series, write_energy_map, write_plot, Legend, PlotSpec, Series, LEVEL_PALETTE};
 
 #[test]
 fn svg_holds_title_axes_legend_and_every_point() {
@@ -131,4 +131,71 @@ fn narrow_linear_axes_label_ticks_with_enough_digits() {
     unique.dedup();
     assert_eq!(unique.len(), ticks.len(), "repeated tick labels: {ticks:?}");
     assert!(ticks.iter().all(|t| t.parse::<f64>().is_ok_and(|v| (-2.0002e-5..-1.9998e-5).contains(&v))), "{ticks:?}");
+}
+
+/// Every level on one chart: one colour per level (none a solver's), the solver by its line and
+/// marker (FO a solid line without markers, drawn last; FR dashed with squares; NLR triangles
+/// without a line), one legend entry per solver and level.
+#[test]
+fn levels_chart_colours_levels_and_keeps_each_solvers_look() {
+    let curve = |peak: f64| (0..100).map(|i| { let f = 1600.0 + 6.0 * i as f64; (f, 1.0 / (1e-2 + ((f - peak) / 50.0).powi(2))) }).collect::<Vec<_>>();
+    let mut series = Vec::new();
+    for (k, (level, peak)) in [("5.0e-1", 2165.0), ("3.3e-4", 1672.0)].into_iter().enumerate() {
+        for solver in ["FO (condensed)", "FR", "NLR"] {
+            series.push(level_series(format!("{solver}, alpha_ST x {level}"), k, curve(peak)));
+        }
+    }
+    let spec = PlotSpec { title: "First harmonic per unit forcing at every level", x_label: "frequency [Hz]", y_label: "|X1| / s", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+    let svg = write("levels.svg", &spec, &series);
+    let labels: Vec<String> = texts(&svg).into_iter().map(|t| t.1).collect();
+    for level in ["5.0e-1", "3.3e-4"] {
+        for solver in ["FO (condensed),", "FR, alpha_ST x", "NLR, alpha_ST x"] {
+            assert!(labels.iter().any(|l| l.starts_with(solver) && (l.contains(level) || solver.starts_with("FO"))), "legend entry {solver} {level}: {labels:?}");
+        }
+    }
+    let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    let lines = polylines(&svg);
+    // two FO lines and two FR lines in the chart, plus one legend line each: FO drawn last
+    let colours: Vec<String> = lines.iter().filter(|l| l.1 == "2").map(|l| l.0.clone()).collect();
+    for k in 0..2 {
+        assert!(colours.iter().any(|c| c.eq_ignore_ascii_case(&hex(LEVEL_PALETTE[k]))), "level {k} colour in {colours:?}");
+    }
+    assert!(!colours.iter().any(|c| c.eq_ignore_ascii_case("#000000")), "no solver black among the curves: {colours:?}");
+    // NLR: triangles, no line of its own (2 levels x 24 markers at most, plus 2 in the legend)
+    let triangles = svg.matches("<polygon").count();
+    assert!(triangles >= 2 * 12 + 2 && triangles <= 2 * 25 + 2, "{triangles} triangles");
+}
+
+/// The energy map: one panel per contact surface (nodes grouped by normal) in its tangent
+/// plane, a circle per node (filled where it dissipates), the node numbers, the colour bar with
+/// the largest energy; bad sizes are refused.
+#[test]
+fn energy_map_draws_each_surface_with_its_nodes_and_the_colour_bar() {
+    let dir = std::env::temp_dir().join(format!("jprom-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("map.svg");
+    // two 2 x 2 patches facing -x and +x, as the blade's shroud contacts
+    let mut positions = Vec::new();
+    let mut frames = Vec::new();
+    for (sx, nx) in [(-6.0, -1.0), (6.0, 1.0)] {
+        for (y, z) in [(17.0, 105.0), (20.0, 105.0), (17.0, 109.0), (20.0, 109.0)] {
+            positions.push([sx, y, z]);
+            frames.push([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [nx, 0.0, 0.0]]);
+        }
+    }
+    let energies = [0.0, 1.0, 2.0, 3.0, 4.0, 0.0, 0.5, 4.5];
+    write_energy_map(&path, "FO energy on the contact nodes", &positions, &frames, &energies, "energy per cycle [mj]").unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    let labels: Vec<String> = texts(&svg).into_iter().map(|t| t.1).collect();
+    for want in ["FO energy on the contact nodes", "energy per cycle [mj]", "4.500e0"] {
+        assert!(labels.iter().any(|l| l == want), "missing '{want}' in {labels:?}");
+    }
+    assert_eq!(labels.iter().filter(|l| l.starts_with("surface ")).count(), 2, "one panel per surface: {labels:?}");
+    for node in 1..=8 {
+        assert!(labels.iter().any(|l| *l == node.to_string()), "node {node} unlabelled");
+    }
+    // a filled disc for each of the 6 dissipating nodes, an outline for all 8
+    assert_eq!(svg.matches("<circle").count(), 6 + 8);
+    assert!(write_energy_map(&path, "t", &positions[..3], &frames, &energies, "e").is_err());
+    assert!(write_energy_map(&path, "t", &[], &[], &[], "e").is_err());
 }

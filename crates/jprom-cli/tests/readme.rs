@@ -1,6 +1,6 @@
 //! The README's claims that can drift: its two commands (the test command is the one `.ci/run`
 //! runs, the demo command names this crate's program), every path of its layout table exists,
-//! and its list of deprecated C functions is the header's.
+//! its list of deprecated C functions is the header's, and the demo it describes is the demo study.
 
 use std::path::PathBuf;
 
@@ -184,4 +184,23 @@ fn status_codes_listed_are_the_headers() {
         .collect();
     assert!(declared.len() >= 13, "header enum not found: {declared:?}");
     assert_eq!(listed, declared, "README status list vs include/jprom.h");
+}
+
+/// The README's description of the demo and of the program: the demo's three levels are the
+/// demo study's, `jprom --version` prints this version, and the default response output it
+/// names is the code's.
+#[test]
+fn demo_levels_version_and_response_default_are_the_codes() {
+    let text = readme();
+    let demo = jprom_cli::study::Study::from_file(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("demo_study.toml")).unwrap();
+    let levels = &demo.forcing.levels;
+    assert_eq!(levels.len(), 3, "the README names three regimes");
+    for (level, words) in levels.iter().zip(["`alpha_ST / 2`", "`alpha_ST / 20`", "`alpha_ST / 3000`"]) {
+        let divisor: f64 = words.trim_matches('`').rsplit(' ').next().unwrap().parse().unwrap();
+        assert!((level * divisor - 1.0).abs() < 1e-3, "demo level {level} vs README {words}");
+        assert!(text.contains(words), "README names {words}");
+    }
+    assert!(text.contains(&format!("jprom --version                # jprom {}", env!("CARGO_PKG_VERSION"))), "README's --version line");
+    let default = jprom_cli::study::BLADE_TIP_FLAP_OUTPUT;
+    assert!(text.contains(&format!("| `output.response` | blade: {default}, FE: 0 |")), "README's output.response default");
 }

@@ -73,3 +73,23 @@ fn the_blade_refinements_of_the_library_are_accepted() {
     assert!(r.contains("model.contact.mu"), "{r}");
     assert_eq!(line, 4);
 }
+
+/// `output.response` picks the output the peak, the FRFs and the errors are of: the blade's
+/// default is its tip flap displacement, an FE model's its first output, and an index past the
+/// model's outputs is refused with the count before any sweep.
+#[test]
+fn the_response_output_defaults_per_model_and_is_checked_against_the_outputs() {
+    let blade = Study::from_toml_str("[model]\nkind = \"blade\"\n").unwrap();
+    assert_eq!(blade.response_output(), jprom_cli::study::BLADE_TIP_FLAP_OUTPUT);
+    assert_eq!(jprom_cli::study::BLADE_TIP_FLAP_OUTPUT, 25, "node 9 of 9 (the tip), y (flap)");
+    let given = Study::from_toml_str("[model]\nkind = \"blade\"\n[output]\nresponse = 4\n").unwrap();
+    assert_eq!(given.response_output(), 4);
+    let past = Study::from_toml_str("[model]\nkind = \"blade\"\n[solvers]\nfr = false\nnlr = false\n[output]\nresponse = 27\n").unwrap();
+    match jprom_cli::run::build_shared(&past, jprom_cli::progress::Progress::Quiet) {
+        Err(e) => {
+            let text = e.to_string();
+            assert!(text.contains("output.response") && text.contains("27 outputs"), "{text}");
+        }
+        Ok(_) => panic!("output 27 of the blade's 27 accepted"),
+    }
+}
