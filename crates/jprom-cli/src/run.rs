@@ -186,6 +186,9 @@ pub struct RunSummary {
     /// The response output (index into the model's outputs): the peak, the FRF plots and the
     /// errors of `X1` and `X0` are of it.
     pub response_output: usize,
+    /// It in words (`the tip (flap)` for the blade's default, else `output j`), as the plots
+    /// name it.
+    pub response_name: String,
     /// Each case's JP basis shared by its levels and ROMs (empty without ROMs).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub shared_bases: Vec<SharedBasisSummary>,
@@ -209,6 +212,8 @@ pub struct SharedBasisSummary {
     pub patterns: usize,
     pub samples: usize,
     pub seconds: f64,
+    /// The levels that share it: each ROM row's time counts `seconds / levels`.
+    pub levels: usize,
     /// Why it could not be predicted (then `sizes` is empty).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
@@ -1505,6 +1510,7 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         basis_study,
         basis_study_seconds,
         response_output: study.response_output(),
+        response_name: response_words(study),
         shared_bases: shared
             .cases
             .iter()
@@ -1518,9 +1524,10 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
                         patterns: b.prediction.n_patterns,
                         samples: b.prediction.n_samples,
                         seconds: b.seconds,
+                        levels: study.forcing.levels.len(),
                         failed: None,
                     },
-                    Err(why) => SharedBasisSummary { case: c.name.clone(), sizes: Vec::new(), gamma: study.basis.gamma, patterns: 0, samples: study.basis.samples, seconds: 0.0, failed: Some(why.clone()) },
+                    Err(why) => SharedBasisSummary { case: c.name.clone(), sizes: Vec::new(), gamma: study.basis.gamma, patterns: 0, samples: study.basis.samples, seconds: 0.0, levels: study.forcing.levels.len(), failed: Some(why.clone()) },
                 })
             })
             .collect(),
@@ -1646,21 +1653,18 @@ pub fn summary_table(s: &RunSummary) -> String {
     for w in &s.warnings {
         out.push_str(&format!("(!) {w}\n"));
     }
-    let mut levels: Vec<f64> = s.rows.iter().map(|r| r.level).collect();
-    levels.sort_by(f64::total_cmp);
-    levels.dedup();
-    let n_levels = levels.len().max(1);
     for b in &s.shared_bases {
         let of_case = if b.case.is_empty() { String::new() } else { format!(" of case {}", b.case) };
         match &b.failed {
             None => out.push_str(&format!(
-                "JP basis{of_case}, predicted once for every level and ROM: n_h = {:?}, gamma = {:e}, {} contact-state patterns from {} samples, {:.2} s (each ROM row's time counts 1/{n_levels} of it)\n",
-                b.sizes, b.gamma, b.patterns, b.samples, b.seconds
+                "JP basis{of_case}, predicted once for every level and ROM: n_h = {:?}, gamma = {:e}, {} contact-state patterns from {} samples, {:.2} s (each ROM row's time counts 1/{} of it)\n",
+                b.sizes, b.gamma, b.patterns, b.samples, b.seconds, b.levels
             )),
             Some(why) => out.push_str(&format!("(!) JP basis{of_case}: could not be predicted: {why}\n")),
         }
     }
-    out.push_str(&format!("response: output {}{}\n", s.response_output, if s.length_unit == "mm" && s.response_output == super::study::BLADE_TIP_FLAP_OUTPUT { " (the blade's tip, flap direction)" } else { "" }));
+    let output = format!("output {}", s.response_output);
+    out.push_str(&if s.response_name == output { format!("response: {output}\n") } else { format!("response: {}, {output}\n", s.response_name) });
     out.push_str(&format!(
         "{}{:>10} {:<15} {:>14} {:>6} {:>8} {:>8} {:>8} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
         case_col("case"),
