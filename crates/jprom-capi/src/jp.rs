@@ -11,11 +11,11 @@ use super::solve::{
 use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use super::versioned::{read_options, write_defaults, Versioned};
-use jprom::aft::AftPlan;
+use jprom::aft::Discretisation;
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::actual_error;
 use jprom::rom;
-use jprom::hbm::{HbmOptions, PointSolution};
+use jprom::hbm::PointSolution;
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
 use jprom::rom::{SweepRecord, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
@@ -74,15 +74,15 @@ pub unsafe extern "C" fn jprom_basis_predict(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, _, _) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
         let band = band_arg(omega_start, omega_end)?;
-        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
+        let coords = ContactCoordinates::new(&m.model, disc)?;
         let mut p = PredictionOptions::new(band);
         p.gamma = finite_arg("gamma", gamma)?;
         jprom::limits::at_most("n_samples", n_samples, jprom::limits::MAX_SAMPLES)?;
         p.n_samples = n_samples;
-        let (basis, _) = predict_basis(&coords, &AftPlan::new(hopts.harmonics, hopts.nt())?, &p)?;
+        let (basis, _) = predict_basis(&coords, &p)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -148,10 +148,10 @@ pub unsafe extern "C" fn jprom_rom_sweep(
     ffi_guard!({
         let m = handle::get(model, "model")?;
         let b = &handle::get(basis, "basis")?.basis;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, hopts, _) = hbm_options(options)?;
         let sopts = sweep_options(sweep_opts)?;
         let out = out_arg(out, "out")?;
-        let rom = build_rom(m, b, rom_kind(kind)?, &hopts)?;
+        let rom = build_rom(m, b, rom_kind(kind)?, disc)?;
         let mut on_point = progress_adapter(callback, user_data);
         let (result, errors) = rom::sweep_with_predicted_error(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
         *out = jprom_sweep_result::wrap(SweepRecord { sweep: result, predicted_errors: errors, corrections: Vec::new() }, Origin::Reduced);
@@ -184,9 +184,9 @@ fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
     }
 }
 
-fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, hopts: &HbmOptions) -> Result<Box<dyn ReducedModel>, FfiError> {
-    let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
-    let condensed = if kind == RomKind::Nlr { Some(CondensedSystem::new(&m.model, hopts)?) } else { None };
+fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, disc: Discretisation) -> Result<Box<dyn ReducedModel>, FfiError> {
+    let coords = ContactCoordinates::new(&m.model, disc)?;
+    let condensed = if kind == RomKind::Nlr { Some(CondensedSystem::new(&m.model, disc)?) } else { None };
     Ok(rom::reduced_model(kind, &coords, condensed.as_ref(), b)?)
 }
 
@@ -310,12 +310,12 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, _, _) = hbm_options(options)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         let band = band_arg(omega_start, omega_end)?;
-        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
-        let (basis, _) = predict_basis(&coords, &AftPlan::new(hopts.harmonics, hopts.nt())?, &prediction_options(&jo, band))?;
+        let coords = ContactCoordinates::new(&m.model, disc)?;
+        let (basis, _) = predict_basis(&coords, &prediction_options(&jo, band))?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -342,17 +342,16 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
     ffi_guard!({
         let m = handle::get(model, "model")?;
         let sol = handle::get(solution, "solution")?;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, _, _) = hbm_options(options)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
         if sol.origin == Origin::Reduced {
             return Err(FfiError::new(JPROM_INVALID_VALUE, "'solution' is a reduced solution (a point of a ROM sweep); a full-order one is needed"));
         }
         let band = band_arg(omega_start, omega_end)?;
-        let coords = ContactCoordinates::new(&m.model, hopts.harmonics)?;
-        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
+        let coords = ContactCoordinates::new(&m.model, disc)?;
         let bopts = BasisOptions { modes: mode_options(&jo, band), gamma: jo.gamma };
-        let basis = JpBasis::from_solution(&coords, &sol.point, &plan, &bopts)?;
+        let basis = JpBasis::from_solution(&coords, &sol.point, &bopts)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -388,7 +387,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, hopts, _) = hbm_options(options)?;
         let sopts = sweep_options(sweep_opts)?;
         let jo = jp_options_arg(jp_options)?;
         let out = out_arg(out, "out")?;
@@ -413,7 +412,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
             }
             adapter(p)
         };
-        let a = adaptive_sweep_with_progress(&m.model, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
+        let a = adaptive_sweep_with_progress(&m.model, disc, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
         *out = jprom_sweep_result::wrap(SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections }, Origin::Reduced);
         if let Some(b) = basis_out.as_mut() {
             *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis: a.basis });
@@ -520,10 +519,10 @@ pub unsafe extern "C" fn jprom_rom_actual_error(
         let b = &handle::get(basis, "basis")?.basis;
         let rs = handle::get(rom_solution, "rom_solution")?;
         let fs = handle::get(full_solution, "full_solution")?;
-        let (hopts, _) = hbm_options(options)?;
+        let (disc, _, _) = hbm_options(options)?;
         let kind = rom_kind(kind)?;
-        check_capacity("buf", hopts.harmonics + 1, len)?;
-        let buf = slice_out(buf, hopts.harmonics + 1, "buf")?;
+        check_capacity("buf", disc.harmonics + 1, len)?;
+        let buf = slice_out(buf, disc.harmonics + 1, "buf")?;
         if rs.origin == Origin::FullOrder {
             return Err(FfiError::new(JPROM_INVALID_VALUE, "'rom_solution' is a full-order solution; pass a point of a ROM sweep"));
         }
@@ -534,7 +533,7 @@ pub unsafe extern "C" fn jprom_rom_actual_error(
         if !((rp.omega - fp.omega).abs() <= 1e-9 * rp.omega.abs()) {
             return Err(FfiError::new(JPROM_INVALID_VALUE, format!("the solutions are at different frequencies ({} and {} rad/s)", rp.omega, fp.omega)));
         }
-        let rom = build_rom(m, b, kind, &hopts)?;
+        let rom = build_rom(m, b, kind, disc)?;
         if rom.layout().sizes != rp.layout.sizes {
             return Err(FfiError::new(
                 JPROM_BAD_SIZE,
@@ -546,8 +545,7 @@ pub unsafe extern "C" fn jprom_rom_actual_error(
         if (n0 != n && n0 != nw) || fp.layout.sizes.iter().any(|&s| s != n0) {
             return Err(FfiError::new(JPROM_BAD_SIZE, format!("'full_solution' has {:?} unknowns per harmonic, not {n} (full) or {nw} (condensed)", fp.layout.sizes)));
         }
-        let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
-        let e = actual_error(rom.as_ref(), &plan, rp.omega, &rp.z, fp)?;
+        let e = actual_error(rom.as_ref(), rp.omega, &rp.z, fp)?;
         buf.copy_from_slice(&e);
         Ok(())
     })

@@ -8,7 +8,7 @@ use super::status::jprom_status::{self, *};
 use super::status::FfiError;
 use super::versioned::{read_options, write_defaults, Versioned};
 use jprom::condensation::CondensedSystem;
-use jprom::hbm::{self, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use jprom::hbm::{self, Discretisation, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use jprom::io::Document;
 use jprom::rom::SweepRecord;
 use std::ffi::{c_char, c_int, c_void};
@@ -79,7 +79,7 @@ impl Versioned for jprom_hbm_options {
         let d = HbmOptions::default();
         jprom_hbm_options {
             struct_size: std::mem::size_of::<jprom_hbm_options>(),
-            harmonics: d.harmonics,
+            harmonics: Discretisation::default().harmonics,
             nt: 0,
             residual_tolerance: d.residual_tolerance,
             max_iterations: d.max_iterations,
@@ -202,18 +202,19 @@ pub unsafe extern "C" fn jprom_sweep_options_init(out: *mut jprom_sweep_options,
     ffi_guard!({ write_defaults(out, struct_size) })
 }
 
-/// The `options` argument of a solve: any released version, checked.
-pub(crate) unsafe fn hbm_options(p: *const jprom_hbm_options) -> Result<(HbmOptions, jprom_hbm_options), FfiError> {
+/// The `options` argument of a solve, any released version, checked: the discretisation the
+/// systems are built with (`harmonics`, `nt`), the Newton settings, and the struct as read.
+pub(crate) unsafe fn hbm_options(p: *const jprom_hbm_options) -> Result<(Discretisation, HbmOptions, jprom_hbm_options), FfiError> {
     let o = read_options(p, "options")?;
+    let disc = Discretisation { harmonics: o.harmonics, nt: if o.nt == 0 { None } else { Some(o.nt) } };
+    disc.validate()?;
     let opts = HbmOptions {
-        harmonics: o.harmonics,
-        nt: if o.nt == 0 { None } else { Some(o.nt) },
         residual_tolerance: finite_arg("residual_tolerance", o.residual_tolerance)?,
         max_iterations: o.max_iterations,
         ..HbmOptions::default()
     };
     opts.validate()?;
-    Ok((opts, o))
+    Ok((disc, opts, o))
 }
 
 /// The `sweep_opts` argument: any released version, checked.
@@ -236,21 +237,21 @@ pub(crate) unsafe fn sweep_options(p: *const jprom_sweep_options) -> Result<Swee
 
 /// Refuses a solve whose dense Jacobian alone (`(2H + 1) n` unknowns squared, `n` the model's
 /// DoFs, or its contact coordinates when condensed) would exceed the memory budget.
-fn check_system_memory(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<(), FfiError> {
+fn check_system_memory(model: &jprom_model, disc: &Discretisation, condensed: c_int) -> Result<(), FfiError> {
     let m = &model.model;
     let n = if condensed != 0 { m.contacts.iter().map(|c| c.dim()).sum() } else { m.n_dof() };
-    let unknowns = jprom::memory::product(&[2 * opts.harmonics + 1, n]);
-    let what = format!("the harmonic-balance Jacobian ({unknowns} unknowns at H = {})", opts.harmonics);
+    let unknowns = jprom::memory::product(&[2 * disc.harmonics + 1, n]);
+    let what = format!("the harmonic-balance Jacobian ({unknowns} unknowns at H = {})", disc.harmonics);
     jprom::memory::check(&what, jprom::memory::bytes_of::<f64>(unknowns.saturating_mul(unknowns)))?;
     Ok(())
 }
 
-fn system(model: &jprom_model, opts: &HbmOptions, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
-    check_system_memory(model, opts, condensed)?;
+fn system(model: &jprom_model, disc: Discretisation, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
+    check_system_memory(model, &disc, condensed)?;
     Ok(if condensed != 0 {
-        Box::new(CondensedSystem::new(&model.model, opts)?)
+        Box::new(CondensedSystem::new(&model.model, disc)?)
     } else {
-        Box::new(FullSystem::new(&model.model, opts)?)
+        Box::new(FullSystem::new(&model.model, disc)?)
     })
 }
 
@@ -265,9 +266,9 @@ pub unsafe extern "C" fn jprom_solve_point(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (opts, o) = hbm_options(options)?;
+        let (disc, opts, o) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
-        let sys = system(m, &opts, o.condensed)?;
+        let sys = system(m, disc, o.condensed)?;
         let point = hbm::solve_point(sys.as_ref(), finite_arg("omega", omega)?, None, &opts)?;
         *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::FullOrder });
         Ok(())
@@ -324,10 +325,10 @@ pub unsafe extern "C" fn jprom_solve_point_from(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (opts, o) = hbm_options(options)?;
+        let (disc, opts, o) = hbm_options(options)?;
         let out = out_arg(out, "out")?;
         let omega = finite_arg("omega", omega)?;
-        let sys = system(m, &opts, o.condensed)?;
+        let sys = system(m, disc, o.condensed)?;
         let z = if guess.is_null() { None } else { Some(guess_for(sys.as_ref(), guess, "guess")?) };
         let point = hbm::solve_point(sys.as_ref(), omega, z.as_deref(), &opts)?;
         *out = handle::into_raw(jprom_solution { magic: jprom_solution::MAGIC, point, origin: Origin::FullOrder });
@@ -351,10 +352,10 @@ pub unsafe extern "C" fn jprom_sweep_from(
 ) -> jprom_status {
     ffi_guard!({
         let m = handle::get(model, "model")?;
-        let (opts, o) = hbm_options(options)?;
+        let (disc, opts, o) = hbm_options(options)?;
         let sopts = sweep_options(sweep_opts)?;
         let out = out_arg(out, "out")?;
-        let sys = system(m, &opts, o.condensed)?;
+        let sys = system(m, disc, o.condensed)?;
         let z = if start.is_null() { None } else { Some(guess_for(sys.as_ref(), start, "start")?) };
         let mut on_point = progress_adapter(callback, user_data);
         let result = hbm::sweep_from(sys.as_ref(), &sopts, &opts, z.as_deref(), &mut on_point)?;

@@ -3,7 +3,6 @@
 //! wrappers) gives the same table as the Rust API (`fe::FeModel`, `rom::adaptive_sweep`) to
 //! 1e-9, on the CalculiX block of the core's test data.
 
-use jprom::aft::AftPlan;
 use jprom::contact::ContactLaw;
 use jprom::fe::{FeModel, NodalContact, NodalForce, Reduction};
 use jprom::hbm::{HbmOptions, SweepEnd, SweepOptions};
@@ -47,11 +46,11 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
     let (w_stuck, _) = stuck_mode(&coords, (free, 1.2 * free)).unwrap();
     let band = (0.97 * free, (1.03 * w_stuck).min(1.5 * free));
     let beta = 2.0 * 0.005 / (0.5 * (band.0 + band.1));
-    let z0 = static_solution(&coords, &AftPlan::new(1, 64).unwrap()).unwrap();
+    let z0 = static_solution(&coords).unwrap();
     let scale = stuck_limit(&coords, &z0, w_stuck).unwrap().scale_at(0.1).unwrap();
     let mut model = fe.reduce(&spec, Damping { mass_coeff: 0.0, stiffness_coeff: beta }).unwrap();
     model.excitation.dynamic_scale = scale;
-    let rust = adaptive_sweep(&model, &PredictionOptions::new(band), &SweepOptions::band(band.0, band.1), &HbmOptions::default(), &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
+    let rust = adaptive_sweep(&model, 1, &PredictionOptions::new(band), &SweepOptions::band(band.0, band.1), &HbmOptions::default(), &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
     println!("band {:.1}-{:.1} Hz, kt {kt:.3e}, {} points, end {:?}, {} corrections", band.0 / 6.283185307179586, band.1 / 6.283185307179586, rust.sweep.points.len(), rust.sweep.end, rust.corrections.len());
     assert_eq!(rust.sweep.end, SweepEnd::ReachedEnd, "{:?}", rust.sweep.failure);
 

@@ -20,14 +20,14 @@ use std::ops::ControlFlow;
 /// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1).
 fn rust_table() -> Vec<Vec<f64>> {
     let model = examples_model();
-    let opts = HbmOptions::with_harmonics(3);
-    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = CondensedSystem::new(&model, 3).unwrap();
     let res = sweep(&sys, &SweepOptions::band(60.0, 160.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     let mut rows: Vec<Vec<f64>> =
         res.points.iter().enumerate().map(|(i, p)| vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1)]).collect();
     assert!(rows.len() > 20, "too few full-order points");
     let pred = PredictionOptions::new((60.0, 160.0));
-    let jp = adaptive_sweep(&model, &pred, &SweepOptions::band(60.0, 160.0), &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
+    let jp = adaptive_sweep(&model, 3, &pred, &SweepOptions::band(60.0, 160.0), &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
     assert!(jp.sweep.points.len() > 20, "too few JP points");
     rows.extend(jp.sweep.points.iter().zip(&jp.predicted_errors).enumerate().map(|(i, (p, e))| {
         vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1), e[1]]

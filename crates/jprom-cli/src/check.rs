@@ -83,15 +83,14 @@ impl ModelNodes {
                 if !self.has_sets {
                     return Err(bad(format!("\"{name}\" is a node set name, but {} has no node sets (give node ids)", self.source)));
                 }
-                match self.sets.get(&name.to_ascii_uppercase()) {
-                    Some(ids) if ids.is_empty() => return Err(bad(format!("node set \"{name}\" of {} is empty", self.source))),
-                    Some(ids) => (ids.clone(), Some(name.as_str())),
-                    None => {
-                        let known: Vec<&str> = self.sets.keys().map(String::as_str).collect();
-                        let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-                        return Err(bad(format!("no node set \"{name}\" in {} (its node sets: {known})", self.source)));
-                    }
+                let ids = jprom::io::calculix::node_set_in(&self.sets, name, &self.source).map_err(|e| match e {
+                    JpError::InvalidValue { what, reason } => bad(format!("{what}: {reason}")),
+                    other => bad(other.to_string()),
+                })?;
+                if ids.is_empty() {
+                    return Err(bad(format!("node set \"{name}\" of {} is empty", self.source)));
                 }
+                (ids.to_vec(), Some(name.as_str()))
             }
         };
         let of_set = set.map(|s| format!(" (of node set \"{s}\")")).unwrap_or_default();

@@ -117,7 +117,7 @@ pub fn modes_report(study: &Study, count: usize, progress: Progress) -> Result<M
     step.done();
     let step = progress.step("stuck mode for the band");
     let band_hz = (study.band.hz_start, study.band.hz_end);
-    let coords = ContactCoordinates::new(&model, study.hbm.harmonics)?;
+    let coords = ContactCoordinates::new(&model, study.discretisation())?;
     let band_stuck_hz = stuck_mode(&coords, (TWO_PI * band_hz.0, TWO_PI * band_hz.1))?.0 / TWO_PI;
     step.done_with(&format!(", {band_stuck_hz:.2} Hz"));
     let warning = band_warning(&stuck, band_hz, band_stuck_hz);

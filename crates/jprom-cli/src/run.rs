@@ -8,7 +8,6 @@ use super::plots::{level_series, solver_color, write_energy_map, write_plot, Das
 use plotters::style::RGBColor;
 use super::study::{CaseSpec, DampingSpec, FeSource, ModelSpec, Study};
 use jprom::contact::ContactLaw;
-use jprom::aft::AftPlan;
 use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
 use jprom::io::calculix::{read_model_files, CalculixFiles};
@@ -124,7 +123,6 @@ fn gamma_study(
     condensed: &CondensedSystem,
     popts: &PredictionOptions,
     hopts: &HbmOptions,
-    plan: &AftPlan,
     fo: &PointSolution,
     level: f64,
     kinds: &[(&str, RomKind)],
@@ -133,7 +131,7 @@ fn gamma_study(
     gammas.sort_by(f64::total_cmp);
     gammas.dedup();
     let g_max = *gammas.last().expect("a gamma");
-    let (big, _) = predict_basis(coords, plan, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
+    let (big, _) = predict_basis(coords, &PredictionOptions { gamma: g_max, ..popts.clone() })?;
     let mut out = Vec::new();
     for &g in &gammas {
         let basis = big.reconditioned(g)?;
@@ -144,8 +142,8 @@ fn gamma_study(
                 let j = study.response_output();
                 row.error_x1 = Some(rel(r.output_amplitude(1, j), fo.output_amplitude(1, j)));
                 row.error_x0 = Some(static_error(&r, fo));
-                row.predicted_e1 = predicted_error(rom.as_ref(), plan, r.omega, &r.z)?.get(1).copied();
-                row.actual_e1 = actual_error(rom.as_ref(), plan, r.omega, &r.z, fo)?.get(1).copied();
+                row.predicted_e1 = predicted_error(rom.as_ref(), r.omega, &r.z)?.get(1).copied();
+                row.actual_e1 = actual_error(rom.as_ref(), r.omega, &r.z, fo)?.get(1).copied();
             }
             out.push(row);
         }
@@ -1039,11 +1037,11 @@ fn reduced_level(
         let j = run.response;
         row.error_x1 = Some(rel(r.output_amplitude(1, j), fo.output_amplitude(1, j)));
         row.error_x0 = Some(static_error(&r, fo));
-        let e_star = predicted_error(rom.as_ref(), &run.plan, r.omega, &r.z)?;
-        let e = actual_error(rom.as_ref(), &run.plan, r.omega, &r.z, fo)?;
+        let e_star = predicted_error(rom.as_ref(), r.omega, &r.z)?;
+        let e = actual_error(rom.as_ref(), r.omega, &r.z, fo)?;
         row.predicted_e1 = e_star.get(1).copied();
         row.actual_e1 = e.get(1).copied();
-        let cycles = reduced_contact_cycles(rom.as_ref(), &run.plan, r.omega, &r.z)?;
+        let cycles = reduced_contact_cycles(rom.as_ref(), r.omega, &r.z)?;
         let fo_energies = fo.contact_cycles.iter().map(|c| c.dissipated_energy).collect();
         c.energies_at_peak.push((c.rows.len(), fo_energies, cycles.iter().map(|c| c.dissipated_energy).collect()));
         row.warnings.extend(fo_warning.iter().chain(fo_edge.iter()).cloned());
@@ -1068,7 +1066,6 @@ struct Run<'a> {
     /// The band (rad/s).
     band: (f64, f64),
     sopts: SweepOptions,
-    plan: AftPlan,
     popts: PredictionOptions,
     /// The response output ([`Study::response_output`]).
     response: usize,
@@ -1187,12 +1184,12 @@ fn prediction_options(study: &Study) -> PredictionOptions {
 ///
 /// # Errors
 /// The prediction's errors.
-pub fn shared_basis(study: &Study, model: &Model, scales: &[f64], plan: &AftPlan) -> Result<SharedBasis> {
+pub fn shared_basis(study: &Study, model: &Model, scales: &[f64]) -> Result<SharedBasis> {
     let t = Instant::now();
     let mut m = model.clone();
     m.excitation.dynamic_scale = scales.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let coords = ContactCoordinates::new(&m, study.hbm.harmonics)?;
-    let (basis, prediction) = predict_basis(&coords, plan, &prediction_options(study))?;
+    let coords = ContactCoordinates::new(&m, study.discretisation())?;
+    let (basis, prediction) = predict_basis(&coords, &prediction_options(study))?;
     Ok(SharedBasis { basis, prediction, seconds: t.elapsed().as_secs_f64() })
 }
 
@@ -1203,7 +1200,6 @@ pub fn shared_basis(study: &Study, model: &Model, scales: &[f64], plan: &AftPlan
 /// # Errors
 /// The model's errors; a level the reference cannot scale to.
 pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
-    let h = study.hbm.harmonics;
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let t = Instant::now();
     let cases = study.case_list();
@@ -1211,10 +1207,9 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
     let mut out = Vec::with_capacity(cases.len());
     for (case, model) in cases.iter().zip(models) {
         let step = progress.step(if case.name.is_empty() { "stuck mode and level reference".to_string() } else { format!("case {}: stuck mode and level reference", case.name) });
-        let coords = ContactCoordinates::new(&model, h)?;
+        let coords = ContactCoordinates::new(&model, study.discretisation())?;
         let omega_st = jprom::jp::prediction::stuck_mode(&coords, band)?.0;
-        let plan = AftPlan::new(h, study.hbm.nt)?;
-        let static_z = jprom::jp::prediction::static_solution(&coords, &plan)?;
+        let static_z = jprom::jp::prediction::static_solution(&coords)?;
         // the model's dynamic scale is 1 here, so the limit's scale is the dynamic scale s_ST
         let limit = stuck_limit(&coords, &static_z, omega_st)?;
         step.done_with(&format!(", stuck resonance {:.2} Hz", omega_st / TWO_PI));
@@ -1238,7 +1233,7 @@ pub fn build_shared(study: &Study, progress: Progress) -> Result<Shared> {
         let contact_positions = if positions.len() == model.contacts.len() { positions.clone() } else { Vec::new() };
         let basis = (!rom_kinds(study).is_empty()).then(|| {
             let step = progress.step(if case.name.is_empty() { "JP basis for every level".to_string() } else { format!("case {}: JP basis for every level", case.name) });
-            let b = shared_basis(study, &model, &scales, &plan);
+            let b = shared_basis(study, &model, &scales);
             match &b {
                 Ok(b) => step.done_with(&format!(", n_h = {:?} from {} contact-state patterns", b.basis.sizes, b.prediction.n_patterns)),
                 Err(e) => step.done_with(&format!(", failed: {e}")),
@@ -1290,15 +1285,14 @@ impl<'a> UnitRunner<'a> {
     /// # Errors
     /// The study's sweep settings or AFT plan are invalid.
     pub fn new(study: &'a Study, shared: &'a Shared, progress: Progress) -> Result<Self> {
-        let h = study.hbm.harmonics;
         let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
         let popts = prediction_options(study);
-        let plan = AftPlan::new(h, study.hbm.nt)?;
+        study.discretisation().validate()?;
         // about `points` points where the response is smooth, more at resonances and folds
         let sopts = study.band.sweep_options();
         sopts.validate().map_err(|e| JpError::invalid("band", e.to_string()))?;
-        let hopts = HbmOptions { nt: Some(study.hbm.nt), max_iterations: study.hbm.max_iterations, ..HbmOptions::with_harmonics(h) };
-        let run = Run { study, progress, hopts, band, sopts, plan, popts, response: study.response_output() };
+        let hopts = HbmOptions { max_iterations: study.hbm.max_iterations, ..HbmOptions::default() };
+        let run = Run { study, progress, hopts, band, sopts, popts, response: study.response_output() };
         let levels = (0..shared.cases.len() * study.forcing.levels.len()).map(|_| std::sync::OnceLock::new()).collect();
         Ok(UnitRunner { run, shared, kinds: rom_kinds(study), levels })
     }
@@ -1313,8 +1307,8 @@ impl<'a> UnitRunner<'a> {
                 let mut model = shared.model.clone();
                 model.excitation.dynamic_scale = shared.scales[i];
                 // the transformed forces carry the excitation level: built for this level
-                let coords = ContactCoordinates::new(&model, self.run.study.hbm.harmonics)?;
-                let condensed = CondensedSystem::new(&model, &self.run.hopts)?;
+                let coords = ContactCoordinates::new(&model, self.run.study.discretisation())?;
+                let condensed = CondensedSystem::new(&model, self.run.study.discretisation())?;
                 Ok(LevelSystems { coords, condensed })
             })
             .as_ref()
@@ -1350,7 +1344,7 @@ impl<'a> UnitRunner<'a> {
                 if let Some(fo) = fo {
                     let bar = self.run.progress.step(format!("gamma study, level {level:e}"));
                     let t = Instant::now();
-                    out.basis_study = gamma_study(self.run.study, &sys.coords, &sys.condensed, &self.run.popts, &self.run.hopts, &self.run.plan, &fo.point, level, &self.kinds)?;
+                    out.basis_study = gamma_study(self.run.study, &sys.coords, &sys.condensed, &self.run.popts, &self.run.hopts, &fo.point, level, &self.kinds)?;
                     out.basis_study_seconds = t.elapsed().as_secs_f64();
                     bar.done();
                 }

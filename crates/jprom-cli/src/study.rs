@@ -1264,6 +1264,12 @@ impl Study {
         }
     }
 
+    /// The harmonics and AFT samples of `[hbm]`: the discretisation of every system the study
+    /// builds.
+    pub fn discretisation(&self) -> jprom::hbm::Discretisation {
+        jprom::hbm::Discretisation::with_nt(self.hbm.harmonics, self.hbm.nt)
+    }
+
     /// The response output: `output.response`, else the blade's tip flap displacement
     /// ([`BLADE_TIP_FLAP_OUTPUT`]) or an FE model's first output (the first component of its
     /// first output node).

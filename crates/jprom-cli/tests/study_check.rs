@@ -126,7 +126,7 @@ fn check_names_the_key_and_line_of_missing_files_unknown_nodes_bad_sets_and_valu
     let (code, err) = check_error(&dir, "set.toml", &t);
     assert_eq!(code, 2, "{err}");
     let l = line_of(&t, "nodes = \"TIPS\"");
-    assert!(err.contains("key 'model.contacts[0].nodes'") && err.contains("no node set \"TIPS\"") && err.contains("ROOT, TIP)") && err.contains(&format!("at line {l}")), "{err}");
+    assert!(err.contains("key 'model.contacts[0].nodes'") && err.contains("node set 'TIPS': the CalculiX job") && err.contains("defines no such set (its node sets: ") && err.contains("ROOT, TIP)") && err.contains(&format!("at line {l}")), "{err}");
     // a node set with a node without DoFs (the clamped root)
     let t = good.replace("nodes = \"tip\"", "nodes = \"ROOT\"");
     let (_, err) = check_error(&dir, "root.toml", &t);

@@ -3,7 +3,6 @@
 //! its node ids. The runner's model must equal the blade's own Craig-Bampton model, its ROMs must
 //! follow the full order, and bad studies must be errors naming the key.
 
-use jprom::aft::AftPlan;
 use jprom_cli::run::{build_model, run_study};
 use jprom::level::stuck_limit_scale;
 use jprom_cli::study::Study;
@@ -178,16 +177,16 @@ fn reconditioning_a_basis_equals_predicting_it_with_the_smaller_gamma() {
     // the runner's level alpha_ST / 10 (micro-slip: several contact-state patterns)
     let band = (TWO_PI * band.0, TWO_PI * band.1);
     let coords = ContactCoordinates::new(&model, 1).unwrap();
-    let static_z = static_solution(&coords, &AftPlan::new(1, 64).unwrap()).unwrap();
+    let static_z = static_solution(&coords).unwrap();
     let s_st = stuck_limit_scale(&coords, &static_z, stuck_mode(&coords, band).unwrap().0).unwrap();
     model.excitation.dynamic_scale = 10.0 * s_st;
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let mut popts = PredictionOptions::new(band);
     popts.n_samples = 30;
     popts.gamma = 1e4;
-    let (big, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
+    let (big, _) = predict_basis(&coords, &popts).unwrap();
     popts.gamma = 1e2;
-    let (small, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
+    let (small, _) = predict_basis(&coords, &popts).unwrap();
     let r = big.reconditioned(1e2).unwrap();
     assert_eq!(r.sizes, small.sizes);
     assert!(r.sizes[1] < big.sizes[1], "sizes {:?} (gamma 1e2) vs {:?} (1e4)", r.sizes, big.sizes);

@@ -4,7 +4,7 @@
 //! full-order (condensed) solution at resonance.
 #![allow(dead_code)]
 
-use jprom::aft::{evaluate_contacts, AftPlan, ContactForces};
+use jprom::aft::{evaluate_contacts, ContactForces};
 use jprom::fe::{BladeParams, BuiltinBlade};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactLaw;
@@ -164,8 +164,8 @@ pub struct Outcome {
 
 /// Largest per-contact difference of the energy dissipated per cycle, over the largest FO
 /// contact energy.
-pub fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution, plan: &AftPlan) -> f64 {
-    let cy = reduced_contact_cycles(rom, plan, s.omega, &s.z).unwrap();
+pub fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution) -> f64 {
+    let cy = reduced_contact_cycles(rom, s.omega, &s.z).unwrap();
     let wmax = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
     cy.iter().zip(&fo.contact_cycles).map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs()).fold(0.0, f64::max) / wmax
 }
@@ -176,9 +176,9 @@ pub fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolutio
 /// (`FrRom::with_jp_rows`) is solved and printed for comparison. `label` prefixes the lines.
 pub fn own_jacobian_outcomes(model: &Model, cond: &CondensedSystem, fo: &PointSolution, band: (f64, f64), extras: &[usize], label: &str) -> Vec<(Outcome, Outcome)> {
     let harmonics = fo.layout.harmonics;
-    let hopts = HbmOptions::with_harmonics(harmonics);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(model, harmonics).unwrap();
-    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
+    let plan = coords.discretisation.plan().unwrap();
     let w = full_order_contact_displacement(fo, coords.n_w).unwrap();
     let mut forces = ContactForces::default();
     evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
@@ -190,14 +190,14 @@ pub fn own_jacobian_outcomes(model: &Model, cond: &CondensedSystem, fo: &PointSo
         let run = |rom: &dyn ReducedModel, name: &str| -> Outcome {
             let t = std::time::Instant::now();
             let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-            let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-            let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+            let es = predicted_error(rom, fo.omega, &s.z).unwrap();
+            let ea = actual_error(rom, fo.omega, &s.z, fo).unwrap();
             let o = Outcome {
                 x0: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0),
                 x1: tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
                 e_star: es[1],
                 e: ea[1],
-                energy: energy_error(rom, &s, fo, &plan),
+                energy: energy_error(rom, &s, fo),
             };
             println!(
                 "{label} extra {extra} {name} sizes {:?}: X0 {:.2e} X1 {:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e} ({:?})",

@@ -195,7 +195,7 @@ pub fn slipping_jacobian(coords: &ContactCoordinates, harmonics: usize, band: (f
         return ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, harmonics).unwrap();
     }
     let plan = AftPlan::new(harmonics, default_nt(harmonics)).unwrap();
-    let q0 = static_solution(coords, &plan).unwrap();
+    let q0 = static_solution(coords).unwrap();
     let (_, phi) = stuck_mode(coords, band).unwrap();
     let w_at = |p: f64| {
         let mut w = vec![0.0; nw * (2 * harmonics + 1)];

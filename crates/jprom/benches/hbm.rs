@@ -40,8 +40,8 @@ fn synthetic_model(n_contacts: usize) -> Model {
 }
 
 fn run(label: &str, model: &Model, h: usize, band: (f64, f64)) {
-    let opts = HbmOptions::with_harmonics(h);
-    let sys = CondensedSystem::new(model, &opts).expect("condense");
+    let opts = HbmOptions::default();
+    let sys = CondensedSystem::new(model, h).expect("condense");
     let n_unknowns = sys.layout().total();
     let sopts = SweepOptions { max_points: 25, ..SweepOptions::band(band.0, band.1) };
     let t = Instant::now();
@@ -53,7 +53,7 @@ fn run(label: &str, model: &Model, h: usize, band: (f64, f64)) {
     let t = Instant::now();
     let lin = sys.linear_part(p.omega).expect("linear part");
     let t_lin = t.elapsed().as_secs_f64();
-    let plan = AftPlan::new(h, opts.nt()).expect("plan");
+    let plan = AftPlan::new(h, jprom::hbm::default_nt(h)).expect("plan");
     let mut ws = ResidualWorkspace::new();
     let t = Instant::now();
     let (_, jac) = evaluate(&sys, &lin, Some(&plan), &p.z, true, &mut ws).expect("evaluate");

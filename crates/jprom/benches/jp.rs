@@ -6,7 +6,6 @@
 use jprom_testkit::chain as jp_support;
 
 use jp_support::*;
-use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::{output_error, predicted_error};
 use jprom::hbm::{solve_point, sweep, FullSystem, HbmOptions, SweepOptions};
@@ -25,11 +24,10 @@ fn main() {
     println!("model: {} DoFs, {} contacts, first stuck mode {:.4} rad/s", model.n_dof(), model.contacts.len(), freqs[0]);
     println!("{:>2} {:>8} {:>10} {:>9} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}", "H", "gamma", "sizes", "build s", "model", "sweep s", "points", "X1 err", "X0 err", "max e*_1");
     for h in [1usize, 3] {
-        let hopts = HbmOptions::with_harmonics(h);
+        let hopts = HbmOptions::default();
         let sopts = SweepOptions { max_step: 0.01, initial_step: 0.005, ..SweepOptions::band(band.0, band.1) };
         let coords = ContactCoordinates::new(&model, h).unwrap();
-        let plan = AftPlan::new(h, hopts.nt()).unwrap();
-        let full = FullSystem::new(&model, &hopts).unwrap();
+        let full = FullSystem::new(&model, h).unwrap();
         let t = Instant::now();
         let fo = sweep(&full, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
         let t_fo = t.elapsed().as_secs_f64();
@@ -39,10 +37,10 @@ fn main() {
             let mut popts = PredictionOptions::new(band);
             popts.gamma = gamma;
             let t = Instant::now();
-            let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
+            let (basis, _) = predict_basis(&coords, &popts).unwrap();
             let t_build = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
-            let condensed = CondensedSystem::new(&model, &hopts).unwrap();
+            let condensed = CondensedSystem::new(&model, h).unwrap();
             let nlr = NlrRom::new(&condensed, &basis).unwrap();
             for (name, rom) in [("FR", &fr as &dyn ReducedModel), ("NLR", &nlr as &dyn ReducedModel)] {
                 let t = Instant::now();
@@ -51,7 +49,7 @@ fn main() {
                 let (npts, worst) = match &res {
                     Ok(r) => (
                         r.points.len(),
-                        r.points.iter().map(|p| predicted_error(rom, &plan, p.omega, &p.z).map(|e| e[1]).unwrap_or(f64::NAN)).fold(0.0, f64::max),
+                        r.points.iter().map(|p| predicted_error(rom, p.omega, &p.z).map(|e| e[1]).unwrap_or(f64::NAN)).fold(0.0, f64::max),
                     ),
                     Err(_) => (0, f64::NAN),
                 };

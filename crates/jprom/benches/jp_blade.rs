@@ -8,7 +8,6 @@
 use jprom_testkit::blade as blade_support;
 
 use blade_support::*;
-use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::predicted_error;
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
@@ -53,10 +52,9 @@ fn main() {
         let model = blade.at_level(blade.alpha_st / 10.0);
         let n_contacts = model.contacts.len();
         for h in [1usize, 3] {
-            let hopts = HbmOptions::with_harmonics(h);
+            let hopts = HbmOptions::default();
             let coords = ContactCoordinates::new(&model, h).unwrap();
-            let cond = CondensedSystem::new(&model, &hopts).unwrap();
-            let plan = AftPlan::new(h, hopts.nt()).unwrap();
+            let cond = CondensedSystem::new(&model, h).unwrap();
             // FO cost per point, measured on a few points near the stuck resonance first.
             let t = Instant::now();
             let mut guess: Option<Vec<f64>> = None;
@@ -79,7 +77,7 @@ fn main() {
             // costs one JP eigen solve (about 1 s at H = 1, 20 s at H = 3 by shift-invert).
             popts.n_samples = if n_contacts > 100 { SAMPLES_REFINED } else { 100 };
             let t = Instant::now();
-            let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
+            let (basis, rep) = predict_basis(&coords, &popts).unwrap();
             let t_basis = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
             let nlr = NlrRom::new(&cond, &basis).unwrap();
@@ -96,7 +94,7 @@ fn main() {
                     match solve_point(rom, fo.omega, None, &hopts) {
                         Ok(s) => (
                             tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1),
-                            predicted_error(rom, &plan, fo.omega, &s.z).map(|e| e[1]).unwrap_or(f64::NAN),
+                            predicted_error(rom, fo.omega, &s.z).map(|e| e[1]).unwrap_or(f64::NAN),
                         ),
                         Err(_) => (f64::NAN, f64::NAN),
                     }

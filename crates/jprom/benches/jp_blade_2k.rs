@@ -25,7 +25,6 @@ mod common;
 
 use blade_support::*;
 use common::vm_hwm_mb;
-use jprom::aft::AftPlan;
 use jprom::fe::{BladeParams, BuiltinBlade, CbOptions};
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::{actual_error, predicted_error};
@@ -124,13 +123,12 @@ fn main() {
     model.excitation.set_level(alpha_st / 10.0).unwrap();
     let t_setup = stage(&format!("stuck mode {:.2} Hz, alpha_ST {alpha_st:.4e}", omega_stuck / (2.0 * PI)), t);
 
-    let hopts = HbmOptions::with_harmonics(h);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, h).unwrap();
-    let plan = AftPlan::new(h, hopts.nt()).unwrap();
     let mut popts = PredictionOptions::new(band);
     popts.n_samples = n_samples;
     let t = Instant::now();
-    let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).expect("plan"), &popts).expect("basis");
+    let (basis, rep) = predict_basis(&coords, &popts).expect("basis");
     let t_basis = stage(&format!("basis: {} samples, {} patterns, sizes {:?}", n_samples, rep.n_patterns, basis.sizes), t);
     let rss_basis = vm_hwm_mb();
 
@@ -142,7 +140,7 @@ fn main() {
     let fr_sweep = sweep(&fr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("FR sweep");
     let t_fr = stage(&format!("FR sweep: {} points", fr_sweep.points.len()), t) / fr_sweep.points.len().max(1) as f64;
     let t = Instant::now();
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let cond = CondensedSystem::new(&model, h).unwrap();
     let nlr = NlrRom::new(&cond, &basis).unwrap();
     let t_nlr_build = stage("NLR model", t);
     let t = Instant::now();
@@ -152,8 +150,8 @@ fn main() {
     // e*_1 of each ROM at its own resonance (no full-order solution at this size).
     let peak = |pts: &[jprom::hbm::PointSolution]| pts.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).cloned().unwrap();
     let (pf, pn) = (peak(&fr_sweep.points), peak(&nlr_sweep.points));
-    let es_fr = predicted_error(&fr, &plan, pf.omega, &pf.z).map(|e| e[1]).unwrap_or(f64::NAN);
-    let es_nlr = predicted_error(&nlr, &plan, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
+    let es_fr = predicted_error(&fr, pf.omega, &pf.z).map(|e| e[1]).unwrap_or(f64::NAN);
+    let es_nlr = predicted_error(&nlr, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
     let nlr_vs_fr = {
         let (a, b) = (tip(&pf.outputs, pf.n_outputs, 1), tip(&pn.outputs, pn.n_outputs, 1));
         let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
@@ -181,8 +179,8 @@ fn main() {
                 let t_fo = stage(&format!("FO point: {} iterations, converged {}", fo.iterations, fo.converged), t);
                 let fr_pt = solve_point(&fr, pn.omega, Some(&pf.z), &hopts).ok();
                 let row = |name: &str, rom: &dyn ReducedModel, z: &[f64], outputs: &[f64]| {
-                    let e = actual_error(rom, &plan, pn.omega, z, &fo).map(|e| e[1]).unwrap_or(f64::NAN);
-                    let es = predicted_error(rom, &plan, pn.omega, z).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let e = actual_error(rom, pn.omega, z, &fo).map(|e| e[1]).unwrap_or(f64::NAN);
+                    let es = predicted_error(rom, pn.omega, z).map(|e| e[1]).unwrap_or(f64::NAN);
                     let tip_e = tip_error(outputs, &fo.outputs, fo.n_outputs, 1);
                     println!("| {name} | {e:.1e} | {es:.1e} | {tip_e:.1e} |");
                 };

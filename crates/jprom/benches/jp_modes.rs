@@ -108,7 +108,7 @@ fn main() {
         let mut popts = PredictionOptions::new(band);
         popts.modes.solver = EigenSolver::ShiftInvert;
         let t = Instant::now();
-        let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
+        let (basis, report) = predict_basis(&coords, &popts).unwrap();
         println!(
             "predict_basis (refinement 5, H = 1, shift-invert, {} samples): {:.1} s, {} patterns, sizes {:?}",
             report.n_samples,

@@ -94,11 +94,10 @@ fn main() {
     // H = 1 sweeps over the demo band at alpha_ST / 10, as `jprom demo` does
     let band = (TWO_PI * 2140.0, TWO_PI * 2190.0);
     let mut model = cb.to_model(Damping::from_modal_ratio(0.002, 0.5 * (band.0 + band.1))).expect("model");
-    let hopts = HbmOptions { nt: Some(64), ..HbmOptions::with_harmonics(1) };
-    let plan = AftPlan::new(1, 64).expect("plan");
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 1).expect("coords");
     let (omega_st, _) = stuck_mode(&coords, band).expect("stuck mode");
-    let s_st = stuck_limit_scale(&coords, &static_solution(&coords, &plan).expect("static"), omega_st).expect("alpha_ST");
+    let s_st = stuck_limit_scale(&coords, &static_solution(&coords).expect("static"), omega_st).expect("alpha_ST");
     model.excitation.dynamic_scale = s_st / 0.1;
     let coords = ContactCoordinates::new(&model, 1).expect("coords");
     let points = 60usize;
@@ -106,7 +105,7 @@ fn main() {
     let how = "default blade, H = 1, Nt = 64, alpha = alpha_ST / 10, 2140-2190 Hz, demo arclength steps";
 
     let t = Instant::now();
-    let condensed = CondensedSystem::new(&model, &hopts).expect("condensed");
+    let condensed = CondensedSystem::new(&model, jprom::hbm::Discretisation::with_nt(1, 64)).expect("condensed");
     let t_cond = t.elapsed().as_secs_f64();
     let (fo, t_fo) = timed_sweep(&condensed, &sopts, &hopts);
     let fo_peak = peak(&fo.points).clone();
@@ -116,7 +115,7 @@ fn main() {
     popts.gamma = 1e3;
     popts.n_samples = 100;
     let t = Instant::now();
-    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, 64).expect("plan"), &popts).expect("basis");
+    let (basis, report) = predict_basis(&coords, &popts).expect("basis");
     let t_basis = t.elapsed().as_secs_f64();
     table.row("JP basis build (prediction)", sig(t_basis), "s", format!("predict_basis: stuck mode, 100 log-spaced samples, {} contact-state patterns, gamma 1e3 -> sizes {:?}", report.n_patterns, basis.sizes));
 
@@ -129,7 +128,7 @@ fn main() {
         let r = solve_point(rom, fo_peak.omega, guess.as_deref(), &hopts).expect("ROM at the FO peak");
         let err = (r.output_amplitude(1, 0) - fo_peak.output_amplitude(1, 0)).abs() / fo_peak.output_amplitude(1, 0);
         let rom_ref: &dyn jprom::rom::ReducedModel = if name == "FR" { &fr } else { &nlr };
-        let e_star = predicted_error(rom_ref, &plan, r.omega, &r.z).expect("e*")[1];
+        let e_star = predicted_error(rom_ref, r.omega, &r.z).expect("e*")[1];
         table.row(format!("{name} relative error of the X1 amplitude at the FO resonance"), sig(err), "-", format!("relative to FO at {:.2} Hz; predicted e*_1 = {}", fo_peak.omega / TWO_PI, sig(e_star)));
     }
     table.row("peak memory", sig(vm_hwm_mb()), "MB", "VmHWM of this process (the blade build and CB dominate)");

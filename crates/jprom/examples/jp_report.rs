@@ -5,7 +5,6 @@
 use jprom_testkit::blade as blade_support;
 
 use blade_support::*;
-use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::{actual_error, predicted_error, reduced_contact_cycles};
 use jprom::hbm::{solve_point, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions};
@@ -27,11 +26,11 @@ struct Row {
     energy: f64,
 }
 
-fn evaluate(rom: &dyn ReducedModel, fo: &PointSolution, plan: &AftPlan, hopts: &HbmOptions) -> (f64, f64, f64, f64, Option<PointSolution>) {
+fn evaluate(rom: &dyn ReducedModel, fo: &PointSolution, hopts: &HbmOptions) -> (f64, f64, f64, f64, Option<PointSolution>) {
     match solve_point(rom, fo.omega, None, hopts) {
         Ok(s) => {
-            let es = predicted_error(rom, plan, fo.omega, &s.z).unwrap();
-            let ea = actual_error(rom, plan, fo.omega, &s.z, fo).unwrap();
+            let es = predicted_error(rom, fo.omega, &s.z).unwrap();
+            let ea = actual_error(rom, fo.omega, &s.z, fo).unwrap();
             (tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 0), tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1), es[1], ea[1], Some(s))
         }
         Err(_) => (f64::NAN, f64::NAN, f64::NAN, f64::NAN, None),
@@ -39,8 +38,8 @@ fn evaluate(rom: &dyn ReducedModel, fo: &PointSolution, plan: &AftPlan, hopts: &
 }
 
 /// Largest per-contact energy difference over the largest FO contact energy.
-fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution, plan: &AftPlan) -> f64 {
-    let cy = reduced_contact_cycles(rom, plan, s.omega, &s.z).unwrap();
+fn energy_error(rom: &dyn ReducedModel, s: &PointSolution, fo: &PointSolution) -> f64 {
+    let cy = reduced_contact_cycles(rom, s.omega, &s.z).unwrap();
     let wmax = fo.contact_cycles.iter().map(|c| c.dissipated_energy.abs()).fold(0.0, f64::max);
     cy.iter().zip(&fo.contact_cycles).map(|(a, b)| (a.dissipated_energy - b.dissipated_energy).abs()).fold(0.0, f64::max) / wmax
 }
@@ -60,8 +59,7 @@ fn main() {
     );
     print!("{head}");
     md += &head;
-    let hopts = HbmOptions::with_harmonics(1);
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let hopts = HbmOptions::default();
     let header = "| alpha | gamma | n0 | n1 | FR n1 | patterns | build s | FR X0 | FR X1 | FR e*1 | FR e1 | NLR X0 | NLR X1 | NLR e*1 | NLR e1 | NLR energy |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     print!("\n{header}");
     md += "\n## Predicted bases (stuck mode), errors at the FO resonance in band (tip node)\n\n";
@@ -70,20 +68,20 @@ fn main() {
     for div in [10.0, 100.0, 1000.0, 3000.0] {
         let model = blade.at_level(blade.alpha_st / div);
         let coords = ContactCoordinates::new(&model, 1).unwrap();
-        let cond = CondensedSystem::new(&model, &hopts).unwrap();
+        let cond = CondensedSystem::new(&model, 1).unwrap();
         let (fo, _) = full_order_resonance(&cond, &hopts, blade.band, None);
         for gamma in [1e2, 1e3, 1e4] {
             let mut popts = PredictionOptions::new(blade.band);
             popts.modes.extra_outside = EXTRA;
             popts.gamma = gamma;
             let t = Instant::now();
-            let (basis, rep) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &popts).unwrap();
+            let (basis, rep) = predict_basis(&coords, &popts).unwrap();
             let tb = t.elapsed().as_secs_f64();
             let fr = FrRom::new(&coords, &basis).unwrap();
             let nlr = NlrRom::new(&cond, &basis).unwrap();
-            let a = evaluate(&fr, &fo, &plan, &hopts);
-            let b = evaluate(&nlr, &fo, &plan, &hopts);
-            let energy = b.4.as_ref().map(|s| energy_error(&nlr, s, &fo, &plan)).unwrap_or(f64::NAN);
+            let a = evaluate(&fr, &fo, &hopts);
+            let b = evaluate(&nlr, &fo, &hopts);
+            let energy = b.4.as_ref().map(|s| energy_error(&nlr, s, &fo)).unwrap_or(f64::NAN);
             let row = Row { fr: (a.0, a.1, a.2, a.3), nlr: (b.0, b.1, b.2, b.3), energy };
             if gamma == 1e3 && poor_level.is_none() && row.nlr.2 > 0.05 {
                 poor_level = Some(div);
@@ -101,16 +99,16 @@ fn main() {
     md += "\n## Self-correcting sweep (NLR, gamma = 1e3)\n\n";
     let div = poor_level.unwrap_or(1000.0);
     let model = blade.at_level(blade.alpha_st / div);
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let cond = CondensedSystem::new(&model, 1).unwrap();
     let (fo, _) = full_order_resonance(&cond, &hopts, blade.band, None);
     let mut popts = PredictionOptions::new(blade.band);
     popts.modes.extra_outside = EXTRA;
     let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(blade.band.0, blade.band.1) };
     let t = Instant::now();
-    let out = adaptive_sweep(&model, &popts, &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    let out = adaptive_sweep(&model, 1, &popts, &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
     let ta = t.elapsed().as_secs_f64();
     let nlr = NlrRom::new(&cond, &out.basis).unwrap();
-    let fin = evaluate(&nlr, &fo, &plan, &hopts);
+    let fin = evaluate(&nlr, &fo, &hopts);
     let mut text = format!("level alpha_ST/{div}: {:.1} s, final sizes {:?}, corrections:\n", ta, out.basis.sizes);
     for c in &out.corrections {
         let _ = writeln!(text, "- {:?}: worst e*_1 {:.2e} -> {:.2e}, sizes {:?}", c.kind, c.worst_error_before, c.worst_error_after, c.sizes);
@@ -124,14 +122,14 @@ fn main() {
     println!("\n| H | system | sizes | points | sweep s | ms/point | basis build s |");
     let model = blade.at_level(blade.alpha_st / 10.0);
     for h in [1usize, 3] {
-        let hopts = HbmOptions::with_harmonics(h);
+        let hopts = HbmOptions::default();
         let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: 200, ..SweepOptions::band(blade.band.0, blade.band.1) };
         let coords = ContactCoordinates::new(&model, h).unwrap();
-        let cond = CondensedSystem::new(&model, &hopts).unwrap();
+        let cond = CondensedSystem::new(&model, h).unwrap();
         let mut popts = PredictionOptions::new(blade.band);
         popts.modes.extra_outside = EXTRA;
         let t = Instant::now();
-        let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap(), &popts).unwrap();
+        let (basis, _) = predict_basis(&coords, &popts).unwrap();
         let tb = t.elapsed().as_secs_f64();
         let fr = FrRom::new(&coords, &basis).unwrap();
         let nlr = NlrRom::new(&cond, &basis).unwrap();

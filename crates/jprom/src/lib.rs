@@ -31,8 +31,8 @@
 //! let damping = Damping { mass_coeff: 0.0, stiffness_coeff: 1e-4 };
 //! let model = Model::new(mass, stiffness, damping, excitation, contacts, vec![0, 3])?;
 //!
-//! let opts = HbmOptions::with_harmonics(1);
-//! let system = CondensedSystem::new(&model, &opts)?;
+//! let opts = HbmOptions::default();
+//! let system = CondensedSystem::new(&model, 1)?;
 //! let result = sweep(&system, &SweepOptions::band(60.0, 160.0), &opts, &mut |_| ControlFlow::Continue(()))?;
 //! assert!(result.reached_end(), "{:?}", result.failure);
 //! let peak = result.points.iter().map(|p| p.output_amplitude(1, 0)).fold(0.0, f64::max);

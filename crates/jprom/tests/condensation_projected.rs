@@ -7,7 +7,7 @@ use jprom_testkit::chain as jp_support;
 
 use faer::Mat;
 use jp_support::*;
-use jprom::hbm::{HarmonicSystem, HbmOptions};
+use jprom::hbm::HarmonicSystem;
 use jprom::condensation::CondensedSystem;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
@@ -24,7 +24,7 @@ fn relv(a: &[f64], b: &[f64]) -> f64 {
 fn projected_linear_part_equals_the_projection_of_the_condensed_one() {
     for harmonics in [1usize, 3] {
         let model = chain_model(&ChainOptions { n_nodes: 10, ..Default::default() });
-        let cond = CondensedSystem::new(&model, &HbmOptions::with_harmonics(harmonics)).unwrap();
+        let cond = CondensedSystem::new(&model, harmonics).unwrap();
         let nw = cond.coordinates().n_w;
         assert!(cond.coordinates().n_dof > nw, "the model needs linear DoFs");
         let mut rng = StdRng::seed_from_u64(11 + harmonics as u64);

@@ -102,8 +102,9 @@ fn check_ending(label: &str, r: &SweepResult) {
     assert_eq!(r.points.last().unwrap().omega, 2.0);
 }
 
-fn three_dof_options() -> HbmOptions {
-    HbmOptions { nt: Some(1024), ..HbmOptions::with_harmonics(7) }
+/// H = 7 with 1,024 AFT samples (the unilateral springs' sharp force needs them).
+fn three_dof_discretisation() -> jprom::hbm::Discretisation {
+    jprom::hbm::Discretisation::with_nt(7, 1024)
 }
 
 /// The default sweep of `sys` over W 0.5 to 2 against a fine-step reference: both cover the
@@ -178,8 +179,8 @@ fn default_sweep_matches_a_fine_reference(sys: &dyn HarmonicSystem, hopts: &HbmO
 
 #[test]
 fn default_sweep_of_the_three_dof_unilateral_case_covers_the_band_through_its_folds() {
-    let hopts = three_dof_options();
-    let sys = CondensedSystem::new(&three_dof(), &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let sys = CondensedSystem::new(&three_dof(), three_dof_discretisation()).unwrap();
     default_sweep_matches_a_fine_reference(&sys, &hopts, 2, 0);
 }
 
@@ -205,16 +206,16 @@ fn nlvib_cubic() -> Model {
 
 #[test]
 fn default_sweep_of_nlvibs_cubic_spring_example_matches_a_fine_reference() {
-    let hopts = HbmOptions { nt: Some(256), ..HbmOptions::with_harmonics(7) };
-    let sys = FullSystem::new(&nlvib_cubic(), &hopts).unwrap();
+    let hopts = HbmOptions { ..HbmOptions::default() };
+    let sys = FullSystem::new(&nlvib_cubic(), jprom::hbm::Discretisation::with_nt(7, 256)).unwrap();
     default_sweep_matches_a_fine_reference(&sys, &hopts, 2, 0);
 }
 
 #[test]
 fn default_sweeps_of_single_valued_curves_never_go_back_in_w() {
     for (label, model, h) in [("sdof Jenkins", sdof(), 7), ("20-mass Jenkins chain", chain(20), 5)] {
-        let hopts = HbmOptions::with_harmonics(h);
-        let sys = CondensedSystem::new(&model, &hopts).unwrap();
+        let hopts = HbmOptions::default();
+        let sys = CondensedSystem::new(&model, h).unwrap();
         let r = sweep(&sys, &SweepOptions::band(0.1, 2.0), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
         summary(label, &r);
         check_ending(label, &r);
@@ -236,8 +237,8 @@ fn a_points_iterations_stay_within_max_iterations_from_zero_at_high_level() {
         m
     };
     for max in [5, 20, 50] {
-        let hopts = HbmOptions { max_iterations: max, ..three_dof_options() };
-        let sys = FullSystem::new(&model, &hopts).unwrap();
+        let hopts = HbmOptions { max_iterations: max, ..HbmOptions::default() };
+        let sys = FullSystem::new(&model, three_dof_discretisation()).unwrap();
         for omega in [0.7, 1.0, 1.4, 1.5, 1.8] {
             match solve_point(&sys, omega, None, &hopts) {
                 Ok(p) => assert!(p.iterations <= max, "{} iterations with max_iterations = {max}", p.iterations),
@@ -253,8 +254,8 @@ fn max_step_alone_below_the_default_initial_step_is_accepted() {
     let sopts = SweepOptions { max_step: 0.005, ..SweepOptions::band(0.5, 2.0) };
     assert!(sopts.initial_step > sopts.max_step);
     sopts.validate().unwrap();
-    let hopts = HbmOptions::with_harmonics(3);
-    let sys = CondensedSystem::new(&sdof(), &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let sys = CondensedSystem::new(&sdof(), 3).unwrap();
     let capped = sweep(&sys, &SweepOptions { max_points: 20, ..sopts.clone() }, &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
     assert_eq!(capped.end, SweepEnd::MaxPoints);
     assert!(capped.failure.as_deref().is_some_and(|t| t.contains("max_points")), "{:?}", capped.failure);
@@ -273,8 +274,8 @@ fn single_points_from_zero_converge_in_the_fold_region_at_high_level() {
     for scale in [1.0, 3.0, 10.0] {
         let mut model = three_dof();
         model.excitation.dynamic_scale = scale;
-        let hopts = three_dof_options();
-        let sys = CondensedSystem::new(&model, &hopts).unwrap();
+        let hopts = HbmOptions::default();
+        let sys = CondensedSystem::new(&model, three_dof_discretisation()).unwrap();
         let mut failures = Vec::new();
         for i in 0..60 {
             let w = 0.5 + 1.5 * i as f64 / 59.0;

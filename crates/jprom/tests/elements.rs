@@ -185,8 +185,8 @@ fn model(k: Mat<f64>, m: Mat<f64>, c: Option<Mat<f64>>, f0: Vec<f64>, f1: Vec<f6
 }
 
 fn solve(model: &Model, h: usize, omega: f64) -> PointSolution {
-    let opts = HbmOptions::with_harmonics(h);
-    let sys = FullSystem::new(model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = FullSystem::new(model, h).unwrap();
     solve_point(&sys, omega, None, &opts).unwrap()
 }
 
@@ -418,8 +418,8 @@ fn two_dof_duffing_chain_sweeps_over_the_band_at_default_settings() {
     let c = chain_k(&[0.002, 0.013]);
     let m = diag(&[1.0, 0.05]);
     let model = model(k, m, Some(c), vec![0.0; 2], vec![0.11, 0.0], vec![Contact::polynomial(1, Some(0), vec![0.0, 0.0, 1.0])]);
-    let opts = HbmOptions::with_harmonics(7);
-    let sys = FullSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = FullSystem::new(&model, 7).unwrap();
     let res = sweep(&sys, &SweepOptions::band(0.5, 2.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     let last = res.points.last().unwrap().omega;
     println!("2-DoF Duffing chain H=7: {} points, end {:?}, last W = {last}, failure {:?}", res.points.len(), res.end, res.failure);

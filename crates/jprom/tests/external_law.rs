@@ -54,8 +54,8 @@ fn two_dof(k_between: f64, contacts: Vec<Contact>) -> Model {
 }
 
 fn solve(model: &Model, h: usize, omega: f64) -> Result<PointSolution, JpError> {
-    let opts = HbmOptions::with_harmonics(h);
-    let sys = FullSystem::new(model, &opts)?;
+    let opts = HbmOptions::default();
+    let sys = FullSystem::new(model, h)?;
     solve_point(&sys, omega, None, &opts)
 }
 
@@ -261,8 +261,8 @@ fn a_sweep_that_meets_a_failing_callable_stops_with_its_error() {
         Ok(())
     });
     let model = two_dof(0.0, vec![on_pair(law, 1, 1, Some(0))]);
-    let opts = HbmOptions::with_harmonics(3);
-    let sys = FullSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = FullSystem::new(&model, 3).unwrap();
     let mut streamed = 0;
     let res = sweep(&sys, &SweepOptions::band(0.3, 2.0), &opts, &mut |_| {
         streamed += 1;

@@ -32,8 +32,8 @@ fn contact_identity(coords: &ContactCoordinates, harmonics: usize, band: (f64, f
 
 /// Full-order solutions at `omegas`, each from the nearest point of a full-order sweep over
 /// `band` (the band edges are both in it).
-fn full_order(model: &Model, hopts: &HbmOptions, band: (f64, f64), omegas: &[f64]) -> Vec<PointSolution> {
-    let full = FullSystem::new(model, hopts).unwrap();
+fn full_order(model: &Model, harmonics: usize, hopts: &HbmOptions, band: (f64, f64), omegas: &[f64]) -> Vec<PointSolution> {
+    let full = FullSystem::new(model, harmonics).unwrap();
     let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(band.0, band.1) };
     let sw = sweep(&full, &sopts, hopts, &mut |_| ControlFlow::Continue(())).unwrap();
     omegas
@@ -49,7 +49,7 @@ fn full_order(model: &Model, hopts: &HbmOptions, band: (f64, f64), omegas: &[f64
 fn complete_contact_rows_make_fr_exact_at_the_band_edges() {
     let (model, band) = case();
     for harmonics in [1, 3] {
-        let hopts = HbmOptions::with_harmonics(harmonics);
+        let hopts = HbmOptions::default();
         let coords = ContactCoordinates::new(&model, harmonics).unwrap();
         let basis = contact_identity(&coords, harmonics, band);
         let fr = FrRom::new(&coords, &basis).unwrap();
@@ -58,7 +58,7 @@ fn complete_contact_rows_make_fr_exact_at_the_band_edges() {
         assert_eq!(fr.layout().sizes[0], coords.n_w + 1, "n_0: the static load adds one column");
         assert!(fr.layout().sizes[1] > coords.n_w && fr.layout().sizes[1] <= 2 * (coords.n_w + 2));
         let omegas = [band.0, band.1, 0.5 * (band.0 + band.1)];
-        let fos = full_order(&model, &hopts, band, &omegas);
+        let fos = full_order(&model, harmonics, &hopts, band, &omegas);
         let mut errors = Vec::new();
         for (&omega, fo) in omegas.iter().zip(&fos) {
             let s = solve_point(&fr, omega, None, &hopts).unwrap();

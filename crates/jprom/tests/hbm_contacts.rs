@@ -76,9 +76,9 @@ fn linear_limit_matches_the_frf_with_contact_springs() {
     }
     let x0 = static_solve(&kk, &f0);
     let (fc, fs) = model.excitation.harmonic(1, 12);
-    let opts = HbmOptions::with_harmonics(1);
-    let full = FullSystem::new(&model, &opts).unwrap();
-    let cond = CondensedSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let full = FullSystem::new(&model, 1).unwrap();
+    let cond = CondensedSystem::new(&model, 1).unwrap();
     for &w in &[500.0, 2500.0, 4000.0, 7000.0] {
         let (xc, xs) = linear_frf(&kk, &model.mass, &c, w, &fc, &fs);
         for system in [&full as &dyn HarmonicSystem, &cond] {
@@ -104,13 +104,12 @@ fn assembled_jacobian_matches_finite_differences() {
     // moderate mu and preload: a mix of stick, slip and separation at a random state
     let (model, _) = contact_model(0.3, 20.0, 1.0);
     for h in [1usize, 3] {
-        let opts = HbmOptions::with_harmonics(h);
-        let full = FullSystem::new(&model, &opts).unwrap();
+        let full = FullSystem::new(&model, h).unwrap();
         // the same system stored sparse: its Jacobian is assembled from entries, not scattered
-        let sparse = FullSystem::with_storage(&model, &opts, Storage::Sparse).unwrap();
+        let sparse = FullSystem::with_storage(&model, h, Storage::Sparse).unwrap();
         assert_eq!(sparse.storage(), Storage::Sparse);
-        let cond = CondensedSystem::new(&model, &opts).unwrap();
-        let plan = AftPlan::new(h, opts.nt()).unwrap();
+        let cond = CondensedSystem::new(&model, h).unwrap();
+        let plan = AftPlan::new(h, jprom::hbm::default_nt(h)).unwrap();
         for system in [&full as &dyn HarmonicSystem, &sparse, &cond] {
             let w = 3000.0;
             let lin = system.linear_part(w).unwrap();
@@ -140,7 +139,7 @@ fn assembled_jacobian_matches_finite_differences() {
 }
 
 /// 2-DoF oscillator, Jenkins element from mass 2 to ground.
-fn oscillator(force: f64, h: usize) -> (Model, HbmOptions) {
+fn oscillator(force: f64) -> (Model, HbmOptions) {
     let k = Mat::from_fn(2, 2, |i, j| [[2.0e4, -1.0e4], [-1.0e4, 1.0e4]][i][j]);
     let m = Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 });
     let contacts = vec![Contact::jenkins(1, None, 3.0e4, 0.5, 20.0)];
@@ -153,13 +152,13 @@ fn oscillator(force: f64, h: usize) -> (Model, HbmOptions) {
         contacts,
         vec![0, 1],
     );
-    (model, HbmOptions::with_harmonics(h))
+    (model, HbmOptions::default())
 }
 
 /// Peak of |X1| at output 1 over a frequency grid, by sweeping with continuation.
 fn resonance(force: f64, h: usize) -> (f64, f64) {
-    let (model, opts) = oscillator(force, h);
-    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let (model, opts) = oscillator(force);
+    let sys = CondensedSystem::new(&model, h).unwrap();
     let res = sweep(&sys, &SweepOptions::band(40.0, 150.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     assert!(!res.stopped_early, "sweep ended early: {:?}", res.end);
     let mut best = (0.0, 0.0);
@@ -202,9 +201,10 @@ fn friction_damped_oscillator_from_stick_to_gross_slip() {
 
 #[test]
 fn full_and_condensed_solves_agree() {
-    let (model, opts) = oscillator(20.0, 3);
-    let full = FullSystem::new(&model, &opts).unwrap();
-    let cond = CondensedSystem::new(&model, &opts).unwrap();
+    let h = 3;
+    let (model, opts) = oscillator(20.0);
+    let full = FullSystem::new(&model, h).unwrap();
+    let cond = CondensedSystem::new(&model, h).unwrap();
     for &w in &[90.0, 120.0, 150.0] {
         let a = solve_point(&full, w, None, &opts).unwrap();
         let b = solve_point(&cond, w, None, &opts).unwrap();
@@ -214,9 +214,9 @@ fn full_and_condensed_solves_agree() {
         assert!((ea - eb).abs() <= 1e-8 * ea.abs().max(1e-12), "{ea} vs {eb}");
     }
     let (model3, _) = contact_model(0.3, 20.0, 1.0);
-    let opts3 = HbmOptions::with_harmonics(3);
-    let a = solve_point(&FullSystem::new(&model3, &opts3).unwrap(), 3000.0, None, &opts3).unwrap();
-    let b = solve_point(&CondensedSystem::new(&model3, &opts3).unwrap(), 3000.0, None, &opts3).unwrap();
+    let opts3 = HbmOptions::default();
+    let a = solve_point(&FullSystem::new(&model3, 3).unwrap(), 3000.0, None, &opts3).unwrap();
+    let b = solve_point(&CondensedSystem::new(&model3, 3).unwrap(), 3000.0, None, &opts3).unwrap();
     assert!(rel_diff(&a.outputs, &b.outputs) < 1e-8);
 }
 
@@ -224,8 +224,8 @@ fn full_and_condensed_solves_agree() {
 fn harmonic_truncation_converges() {
     let w = 110.0;
     let amp = |h: usize| {
-        let (model, opts) = oscillator(20.0, h);
-        let sys = CondensedSystem::new(&model, &opts).unwrap();
+        let (model, opts) = oscillator(20.0);
+        let sys = CondensedSystem::new(&model, h).unwrap();
         solve_point(&sys, w, None, &opts).unwrap().output_amplitude(1, 1)
     };
     let a: Vec<f64> = [1usize, 3, 5, 7].iter().map(|&h| amp(h)).collect();
@@ -256,8 +256,8 @@ fn continuation_passes_the_fold_of_a_hardening_gap_contact() {
     );
     // the clipped normal force makes the residual nonsmooth where a sample opens or closes:
     // Newton can stall near 1e-7 there (a sample switching back and forth), above the default 1e-10.
-    let opts = HbmOptions { residual_tolerance: 1e-8, nt: Some(256), ..HbmOptions::with_harmonics(3) };
-    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions { residual_tolerance: 1e-8, ..HbmOptions::default() };
+    let sys = CondensedSystem::new(&model, jprom::hbm::Discretisation::with_nt(3, 256)).unwrap();
     let res = sweep(&sys, &SweepOptions::band(70.0, 250.0), &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     let omegas: Vec<f64> = res.points.iter().map(|p| p.omega).collect();
     // The branch must go round the first fold: omega rises, then falls back while the

@@ -27,7 +27,7 @@ fn by_hand(coords: &ContactCoordinates, fo: &PointSolution, plan: &AftPlan, opts
 fn setup(harmonics: usize) -> (Model, HbmOptions, ContactCoordinates, f64, BasisOptions) {
     let mut model = chain_model(&ChainOptions::default());
     model.excitation.dynamic_scale = 0.05;
-    let hopts = HbmOptions::with_harmonics(harmonics);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, harmonics).unwrap();
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let mut modes = ModeOptions::in_band((0.9 * freqs[0], 1.02 * freqs[0]));
@@ -39,11 +39,11 @@ fn setup(harmonics: usize) -> (Model, HbmOptions, ContactCoordinates, f64, Basis
 fn from_solution_is_the_own_jacobian_basis() {
     for harmonics in [1, 3] {
         let (model, hopts, coords, omega, opts) = setup(harmonics);
-        let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
-        let full = solve_point(&FullSystem::new(&model, &hopts).unwrap(), omega, None, &hopts).unwrap();
-        let condensed = solve_point(&CondensedSystem::new(&model, &hopts).unwrap(), omega, None, &hopts).unwrap();
+        let plan = AftPlan::new(harmonics, jprom::hbm::default_nt(harmonics)).unwrap();
+        let full = solve_point(&FullSystem::new(&model, harmonics).unwrap(), omega, None, &hopts).unwrap();
+        let condensed = solve_point(&CondensedSystem::new(&model, harmonics).unwrap(), omega, None, &hopts).unwrap();
         for fo in [&full, &condensed] {
-            let got = JpBasis::from_solution(&coords, fo, &plan, &opts).unwrap();
+            let got = JpBasis::from_solution(&coords, fo, &opts).unwrap();
             assert_eq!(got, by_hand(&coords, fo, &plan, &opts), "H = {harmonics}, {} unknowns", fo.layout.sizes[0]);
             assert!(got.sizes[1] > 0);
         }
@@ -53,15 +53,14 @@ fn from_solution_is_the_own_jacobian_basis() {
 #[test]
 fn from_solution_refuses_other_solutions() {
     let (model, hopts, coords, omega, opts) = setup(1);
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
-    let fo = solve_point(&FullSystem::new(&model, &hopts).unwrap(), omega, None, &hopts).unwrap();
+    let fo = solve_point(&FullSystem::new(&model, 1).unwrap(), omega, None, &hopts).unwrap();
     // a reduced solution: unknowns per harmonic are the basis sizes
-    let basis = JpBasis::from_solution(&coords, &fo, &plan, &opts).unwrap();
-    let rom = NlrRom::new(&CondensedSystem::new(&model, &hopts).unwrap(), &basis).unwrap();
+    let basis = JpBasis::from_solution(&coords, &fo, &opts).unwrap();
+    let rom = NlrRom::new(&CondensedSystem::new(&model, 1).unwrap(), &basis).unwrap();
     let reduced = solve_point(&rom, omega, None, &hopts).unwrap();
     assert_eq!(reduced.layout.sizes, rom.layout().sizes);
-    assert!(matches!(JpBasis::from_solution(&coords, &reduced, &plan, &opts), Err(JpError::BadSize { .. })));
-    // another H than the plan's
-    let plan3 = AftPlan::new(3, hopts.nt()).unwrap();
-    assert!(matches!(JpBasis::from_solution(&coords, &fo, &plan3, &opts), Err(JpError::InvalidValue { .. })));
+    assert!(matches!(JpBasis::from_solution(&coords, &reduced, &opts), Err(JpError::BadSize { .. })));
+    // another H than the coordinates'
+    let coords3 = jprom::model::ContactCoordinates::new(&model, 3).unwrap();
+    assert!(matches!(JpBasis::from_solution(&coords3, &fo, &opts), Err(JpError::InvalidValue { .. })));
 }

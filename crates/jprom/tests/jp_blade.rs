@@ -22,7 +22,6 @@
 use jprom_testkit::blade as blade_support;
 
 use blade_support::*;
-use jprom::aft::AftPlan;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
 use jprom::rom::error_metric::{actual_error, predicted_error};
@@ -41,8 +40,8 @@ fn blade() -> &'static Blade {
 fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outcome)> {
     let b = blade();
     let model = b.at_level(b.alpha_st / div);
-    let hopts = HbmOptions::with_harmonics(harmonics);
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let cond = CondensedSystem::new(&model, harmonics).unwrap();
     let sopts = SweepOptions { max_step: if harmonics == 1 { 0.02 } else { 0.05 }, ..SweepOptions::band(b.band.0, b.band.1) };
     let (fo, _) = full_order_resonance(&cond, &hopts, b.band, Some(sopts));
     own_jacobian_outcomes(&model, &cond, &fo, b.band, extras, &format!("H={harmonics} alpha_ST/{div}"))
@@ -51,9 +50,9 @@ fn own_basis(harmonics: usize, div: f64, extras: &[usize]) -> Vec<(Outcome, Outc
 #[test]
 fn alpha_st_separates_full_stick_from_slip() {
     let b = blade();
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let states = |alpha: f64| -> Vec<ContactState> {
-        let cond = CondensedSystem::new(&b.at_level(alpha), &hopts).unwrap();
+        let cond = CondensedSystem::new(&b.at_level(alpha), 1).unwrap();
         let s = solve_point(&cond, b.omega_stuck, None, &hopts).unwrap();
         s.contact_cycles.iter().flat_map(|c| c.states.clone()).collect()
     };
@@ -119,21 +118,20 @@ struct PredictedRow {
 fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> PredictedRow {
     let b = blade();
     let model = b.at_level(b.alpha_st / div);
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let cond = CondensedSystem::new(&model, 1).unwrap();
     let mut popts = PredictionOptions::new(b.band);
     popts.modes.extra_outside = 2;
     popts.gamma = gamma;
-    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(coords.harmonic_force.len(), jprom::hbm::default_nt(coords.harmonic_force.len())).unwrap(), &popts).unwrap();
+    let (basis, _) = predict_basis(&coords, &popts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let nlr = NlrRom::new(&cond, &basis).unwrap();
     let fr_sizes = fr.layout().sizes.clone();
     let eval = |rom: &dyn ReducedModel| -> (f64, f64, f64) {
         let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-        let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+        let es = predicted_error(rom, fo.omega, &s.z).unwrap();
+        let ea = actual_error(rom, fo.omega, &s.z, fo).unwrap();
         (tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1), es[1], ea[1])
     };
     let row = PredictedRow { n0: basis.sizes[0], n1: basis.sizes[1], fr: eval(&fr), nlr: eval(&nlr) };
@@ -144,8 +142,8 @@ fn predicted_row(div: f64, gamma: f64, fo: &PointSolution) -> PredictedRow {
 
 fn fo_resonance(div: f64) -> PointSolution {
     let b = blade();
-    let hopts = HbmOptions::with_harmonics(1);
-    let cond = CondensedSystem::new(&b.at_level(b.alpha_st / div), &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let cond = CondensedSystem::new(&b.at_level(b.alpha_st / div), 1).unwrap();
     full_order_resonance(&cond, &hopts, b.band, None).0
 }
 
@@ -180,9 +178,9 @@ fn flagged_and_corrected(div: f64) -> (PredictedRow, AdaptiveSweep, f64) {
     assert!(first.nlr.1 > 0.05, "e*_1 {:.2e} should flag the stuck-mode basis", first.nlr.1);
     assert!(first.nlr.1 + 1e-9 >= first.nlr.2);
     let model = b.at_level(b.alpha_st / div);
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(b.band.0, b.band.1) };
-    let out = adaptive_sweep(&model, &PredictionOptions::new(b.band), &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    let out = adaptive_sweep(&model, 1, &PredictionOptions::new(b.band), &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
     for c in &out.corrections {
         println!("{:?}: {:.2e} -> {:.2e} {:?}", c.kind, c.worst_error_before, c.worst_error_after, c.sizes);
     }
@@ -191,7 +189,7 @@ fn flagged_and_corrected(div: f64) -> (PredictedRow, AdaptiveSweep, f64) {
     println!("after correction: judged {:.2e}, worst e*_1 {worst:.2e}, checks {:?}", out.worst_error, out.checks);
     assert!(out.worst_error <= 0.05, "judged error after correction {:.2e}", out.worst_error);
     assert!(!out.checks.is_empty() && out.checks.iter().all(|c| c.linearised <= out.worst_error));
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let cond = CondensedSystem::new(&model, 1).unwrap();
     let s = solve_point(&NlrRom::new(&cond, &out.basis).unwrap(), fo.omega, None, &hopts).unwrap();
     let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
     println!("alpha_ST/{div}: final sizes {:?} (first {:?}), X1 error {x1:.2e}", out.basis.sizes, (first.n0, first.n1));
@@ -216,10 +214,10 @@ fn poor_generating_shape_is_flagged_and_corrected() {
 fn band_condensed_fr_sweeps_at_h3() {
     let b = blade();
     let model = b.at_level(b.alpha_st / 10.0);
-    let hopts = HbmOptions::with_harmonics(3);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 3).unwrap();
     let popts = PredictionOptions::new(b.band);
-    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(coords.harmonic_force.len(), jprom::hbm::default_nt(coords.harmonic_force.len())).unwrap(), &popts).unwrap();
+    let (basis, _) = predict_basis(&coords, &popts).unwrap();
     let fr = FrRom::new(&coords, &basis).unwrap();
     let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: 30, ..SweepOptions::band(b.band.0, b.band.1) };
     let sw = jprom::hbm::sweep(&fr, &sopts, &hopts, &mut |_| std::ops::ControlFlow::Continue(())).unwrap();

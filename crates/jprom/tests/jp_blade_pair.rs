@@ -50,7 +50,6 @@
 use jprom_testkit::blade as blade_support;
 
 use blade_support::*;
-use jprom::aft::AftPlan;
 use jprom::fe::{BladePair, BladeParams, PairParams, PairSite};
 use jprom::condensation::CondensedSystem;
 use jprom::contact::ContactState;
@@ -107,8 +106,8 @@ fn fo_partial_slip() -> &'static (CondensedSystem, PointSolution) {
 
 fn fo_resonance(model: &Model, harmonics: usize) -> (CondensedSystem, PointSolution) {
     let p = pair();
-    let hopts = HbmOptions::with_harmonics(harmonics);
-    let cond = CondensedSystem::new(model, &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let cond = CondensedSystem::new(model, harmonics).unwrap();
     let sopts = SweepOptions { max_step: if harmonics == 1 { 0.02 } else { 0.05 }, ..SweepOptions::band(p.band.0, p.band.1) };
     let t = Instant::now();
     let (fo, n) = full_order_resonance(&cond, &hopts, p.band, Some(sopts));
@@ -205,9 +204,9 @@ fn own_jacobian_basis_partial_slip_h3() {
 #[test]
 fn stuck_pair_is_the_linear_model_with_pair_springs() {
     let p = pair();
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let solve = |alpha: f64| {
-        let cond = CondensedSystem::new(&p.at_level(alpha), &hopts).unwrap();
+        let cond = CondensedSystem::new(&p.at_level(alpha), 1).unwrap();
         solve_point(&cond, p.omega_stuck, None, &hopts).unwrap()
     };
     let s = solve(1.02 * p.alpha_st);
@@ -256,11 +255,10 @@ fn predicted_basis_partial_slip() {
     let p = pair();
     let (cond, fo) = fo_partial_slip();
     let model = p.at_level(p.alpha_st / 10.0);
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
     let t = Instant::now();
-    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &PredictionOptions::new(p.band)).unwrap();
+    let (basis, report) = predict_basis(&coords, &PredictionOptions::new(p.band)).unwrap();
     println!("predicted in {:?}: sizes {:?}, {} patterns, omega_ST {:.1} Hz", t.elapsed(), basis.sizes, report.n_patterns, report.omega_stuck.unwrap() / (2.0 * PI));
     // The generating shape is the anti-phase flap mode (the stuck mode nearest the band centre).
     assert!((report.omega_stuck.unwrap() / p.omega_stuck - 1.0).abs() < 1e-9);
@@ -268,10 +266,10 @@ fn predicted_basis_partial_slip() {
     let nlr = NlrRom::new(cond, &basis).unwrap();
     for (rom, name) in [(&fr as &dyn ReducedModel, "FR"), (&nlr as &dyn ReducedModel, "NLR")] {
         let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-        let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+        let es = predicted_error(rom, fo.omega, &s.z).unwrap();
+        let ea = actual_error(rom, fo.omega, &s.z, fo).unwrap();
         let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
-        let energy = energy_error(rom, &s, fo, &plan);
+        let energy = energy_error(rom, &s, fo);
         println!("predicted {name}: X1 {x1:.2e} e*_1 {:.2e} e_1 {:.2e} energy {energy:.2e}", es[1], ea[1]);
         assert!(es[1] + 1e-9 >= ea[1], "{name}: e*_1 {:.3e} < e_1 {:.3e}", es[1], ea[1]);
         // Measured: X1 2.5e-3 / 4.0e-3, e*_1 6.0e-2, energy 1.8e-2 (FR / NLR).
@@ -292,10 +290,10 @@ fn adaptive_sweep_partial_slip() {
     let p = pair();
     let div = 10.0;
     let model = p.at_level(p.alpha_st / div);
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let sopts = SweepOptions { max_step: 0.02, ..SweepOptions::band(p.band.0, p.band.1) };
     let t = Instant::now();
-    let out = adaptive_sweep(&model, &PredictionOptions::new(p.band), &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..Default::default() }).unwrap();
+    let out = adaptive_sweep(&model, 1, &PredictionOptions::new(p.band), &sopts, &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..Default::default() }).unwrap();
     let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
     if let Some(c) = out.corrections.first() {
         assert!(c.worst_error_after < c.worst_error_before);
@@ -303,15 +301,14 @@ fn adaptive_sweep_partial_slip() {
     println!("adaptive /{div} in {:?}: corrections {:?}, sizes {:?}, worst e*_1 {worst:.2e}, points {}", t.elapsed(), out.corrections, out.basis.sizes, out.sweep.points.len());
     let (cond, fo) = fo_partial_slip();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
     let fr = FrRom::new(&coords, &out.basis).unwrap();
     let nlr = NlrRom::new(cond, &out.basis).unwrap();
     for (rom, name) in [(&fr as &dyn ReducedModel, "FR"), (&nlr as &dyn ReducedModel, "NLR")] {
         let s = solve_point(rom, fo.omega, None, &hopts).unwrap();
-        let es = predicted_error(rom, &plan, fo.omega, &s.z).unwrap();
-        let ea = actual_error(rom, &plan, fo.omega, &s.z, fo).unwrap();
+        let es = predicted_error(rom, fo.omega, &s.z).unwrap();
+        let ea = actual_error(rom, fo.omega, &s.z, fo).unwrap();
         let x1 = tip_error(&s.outputs, &fo.outputs, fo.n_outputs, 1);
-        println!("adaptive /{div} {name} at FO resonance: X1 {x1:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e}", es[1], ea[1], energy_error(rom, &s, fo, &plan));
+        println!("adaptive /{div} {name} at FO resonance: X1 {x1:.2e} e*_1 {:.2e} e_1 {:.2e} energy {:.2e}", es[1], ea[1], energy_error(rom, &s, fo));
         assert!(es[1] + 1e-9 >= ea[1], "{name}: e*_1 {:.3e} < e_1 {:.3e}", es[1], ea[1]);
         // Measured: X1 4.4e-3 (FR).
         assert_below(name, &[("X1", x1)], 1e-2);

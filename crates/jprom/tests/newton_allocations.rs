@@ -50,8 +50,8 @@ fn counted(sys: &FullSystem, omega: f64, guess: Option<&[f64]>, opts: &HbmOption
 fn same_allocations_whatever_the_iterations(n: usize, slip: f64, storage: Storage) {
     let model = jenkins_chain(n, slip, 0.1, false);
     // a budget that lets the first Newton attempt converge (no load-stepping fallback)
-    let opts = HbmOptions { max_iterations: 200, ..HbmOptions::with_harmonics(3) };
-    let sys = FullSystem::with_storage(&model, &opts, storage).unwrap();
+    let opts = HbmOptions { max_iterations: 200, ..HbmOptions::default() };
+    let sys = FullSystem::with_storage(&model, 3, storage).unwrap();
     let omega = 0.75;
     // warm-up (the process's one-time allocations: thread pools, FFT plans, faer's caches),
     // and the solution, whose 95 % is the close guess (zero is the far one)

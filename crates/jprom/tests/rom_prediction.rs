@@ -5,7 +5,6 @@
 use jprom_testkit::chain as jp_support;
 
 use jp_support::*;
-use jprom::aft::AftPlan;
 use jprom::rom::error_metric::{actual_error, output_error, predicted_error};
 use jprom::hbm::{solve_point, FullSystem, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, PredictionOptions};
@@ -18,30 +17,29 @@ use std::ops::ControlFlow;
 fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
     let mut model = chain_model(&ChainOptions::default());
     model.excitation.dynamic_scale = 0.05;
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let band = (0.9 * freqs[0], 1.02 * freqs[0]);
     let omega = 0.99 * freqs[0];
-    let full = FullSystem::new(&model, &hopts).unwrap();
+    let full = FullSystem::new(&model, 1).unwrap();
     let mut guess: Option<Vec<f64>> = None;
     for k in (0..=40).rev() {
         guess = Some(solve_point(&full, omega * (1.0 - 0.001 * k as f64), guess.as_deref(), &hopts).unwrap().z);
     }
     let fo = solve_point(&full, omega, guess.as_deref(), &hopts).unwrap();
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
     let mut last_sizes = vec![0, 0];
     for gamma in [1e2, 1e3, 1e4] {
         let mut opts = PredictionOptions::new(band);
         opts.gamma = gamma;
-        let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &opts).unwrap();
+        let (basis, report) = predict_basis(&coords, &opts).unwrap();
         assert!(report.p_min <= report.p_max && report.n_patterns >= 1);
         assert!(basis.sizes[0] >= last_sizes[0] && basis.sizes[1] >= last_sizes[1], "sizes shrink with gamma");
         last_sizes = basis.sizes.clone();
         let fr = FrRom::new(&coords, &basis).unwrap();
         let s = solve_point(&fr, omega, None, &hopts).unwrap();
-        let es = predicted_error(&fr, &plan, omega, &s.z).unwrap();
-        let ea = actual_error(&fr, &plan, omega, &s.z, &fo).unwrap();
+        let es = predicted_error(&fr, omega, &s.z).unwrap();
+        let ea = actual_error(&fr, omega, &s.z, &fo).unwrap();
         println!(
             "gamma {gamma:e}: sizes {:?} patterns {} p_min {:.3e} p_max {:.3e}; X1 err {:.2e}, e*_1 {:.2e}, e_1 {:.2e}",
             basis.sizes,
@@ -62,7 +60,7 @@ fn predicted_basis_grows_with_gamma_and_predictor_is_conservative() {
 fn adaptive_case() -> (jprom::model::Model, HbmOptions, (f64, f64)) {
     let mut model = chain_model(&ChainOptions::default());
     model.excitation.dynamic_scale = 0.05;
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let band = (0.97 * freqs[0], 1.01 * freqs[0]);
     (model, hopts, band)
@@ -73,7 +71,7 @@ fn adaptive_sweep_reports_corrections() {
     let (model, hopts, band) = adaptive_case();
     let pred = PredictionOptions::new(band);
     let sopts = SweepOptions::band(band.0, band.1);
-    let out = adaptive_sweep(&model, &pred, &sopts, &hopts, &AdaptiveOptions::default()).unwrap();
+    let out = adaptive_sweep(&model, 1, &pred, &sopts, &hopts, &AdaptiveOptions::default()).unwrap();
     let worst = out.predicted_errors.iter().map(|e| e[1]).fold(0.0, f64::max);
     println!("points {} worst e*_1 {worst:.3e} corrections {:?}", out.sweep.points.len(), out.corrections);
     assert_eq!(out.predicted_errors.len(), out.sweep.points.len());
@@ -90,10 +88,10 @@ fn adaptive_sweep_with_progress_reports_every_point_and_stops_on_request() {
     let pred = PredictionOptions::new(band);
     let sopts = SweepOptions::band(band.0, band.1);
     let aopts = AdaptiveOptions::default();
-    let plain = adaptive_sweep(&model, &pred, &sopts, &hopts, &aopts).unwrap();
+    let plain = adaptive_sweep(&model, 1, &pred, &sopts, &hopts, &aopts).unwrap();
     // every point of every pass is reported; the result is that of adaptive_sweep
     let mut seen: Vec<(usize, f64)> = Vec::new();
-    let out = adaptive_sweep_with_progress(&model, &pred, &sopts, &hopts, &aopts, &mut |pass, p| {
+    let out = adaptive_sweep_with_progress(&model, 1, &pred, &sopts, &hopts, &aopts, &mut |pass, p| {
         seen.push((pass, p.omega));
         ControlFlow::Continue(())
     })
@@ -107,7 +105,7 @@ fn adaptive_sweep_with_progress_reports_every_point_and_stops_on_request() {
     assert_eq!(last, out.sweep.points.iter().map(|p| p.omega).collect::<Vec<_>>());
     assert_eq!(seen.iter().map(|s| s.0).max(), Some(out.corrections.len()));
     // stopping at the first point of the first pass: no correction, one point
-    let stopped = adaptive_sweep_with_progress(&model, &pred, &sopts, &hopts, &aopts, &mut |_, _| ControlFlow::Break(())).unwrap();
+    let stopped = adaptive_sweep_with_progress(&model, 1, &pred, &sopts, &hopts, &aopts, &mut |_, _| ControlFlow::Break(())).unwrap();
     assert_eq!(stopped.sweep.end, SweepEnd::StoppedByCaller);
     assert_eq!(stopped.sweep.points.len(), 1);
     assert!(stopped.corrections.is_empty());
@@ -123,7 +121,7 @@ fn prediction_works_without_static_load() {
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let mut p = PredictionOptions::new((60.0, 160.0));
     p.n_samples = 10;
-    let (basis, report) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
+    let (basis, report) = predict_basis(&coords, &p).unwrap();
     assert!(basis.sizes[1] > 0);
     assert!(report.static_solution.iter().any(|x| *x != 0.0), "the preload moves the static solution");
 }

@@ -18,8 +18,8 @@ use jprom::model::{ContactCoordinates, Model};
 use jprom::rom::{FrRom, NlrRom, ReducedModel};
 
 /// Full-order solution near the stuck resonance (a short continuation in omega from below).
-fn full_order(model: &Model, hopts: &HbmOptions, omega: f64) -> PointSolution {
-    let full = FullSystem::new(model, hopts).unwrap();
+fn full_order(model: &Model, harmonics: usize, hopts: &HbmOptions, omega: f64) -> PointSolution {
+    let full = FullSystem::new(model, harmonics).unwrap();
     let mut guess: Option<Vec<f64>> = None;
     for k in (0..=40).rev() {
         let om = omega * (1.0 - 0.001 * k as f64);
@@ -38,18 +38,18 @@ struct Case {
 fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
     let mut model = chain_model(&ChainOptions::default());
     model.excitation.dynamic_scale = scale;
-    let hopts = HbmOptions::with_harmonics(harmonics);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, harmonics).unwrap();
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&model), &model.mass);
     let omega = 0.99 * freqs[0];
     let band = (0.9 * freqs[0], 1.02 * freqs[0]);
-    let fo = full_order(&model, &hopts, omega);
-    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
+    let fo = full_order(&model, harmonics, &hopts, omega);
+    let plan = AftPlan::new(harmonics, jprom::hbm::default_nt(harmonics)).unwrap();
     let w = full_order_contact_displacement(&fo, coords.n_w).unwrap();
     let mut forces = ContactForces::default();
     evaluate_contacts(&plan, &coords.laws, &coords.offsets, coords.n_w, &w, true, false, &mut forces);
     let k_hat = ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, harmonics, &forces, &w).unwrap();
-    let condensed = CondensedSystem::new(&model, &hopts).unwrap();
+    let condensed = CondensedSystem::new(&model, harmonics).unwrap();
     let mut errors = Vec::new();
     for &extra in extras {
         let opts = BasisOptions { modes: ModeOptions { band, extra_outside: extra, static_correction: true, solver: jprom::jp::EigenSolver::Auto }, gamma: 1e10 };
@@ -61,9 +61,9 @@ fn run(harmonics: usize, scale: f64, extras: &[usize]) -> Case {
         for rom in [&fr as &dyn ReducedModel, &fr_jp, &nlr] {
             let s = solve_point(rom, omega, None, &hopts).unwrap();
             row.push((output_error(&s.outputs, &fo.outputs, fo.n_outputs, 0), output_error(&s.outputs, &fo.outputs, fo.n_outputs, 1)));
-            let es = predicted_error(rom, &plan, omega, &s.z).unwrap();
-            let ea = actual_error(rom, &plan, omega, &s.z, &fo).unwrap();
-            let el = linearised_error(rom, &condensed, &plan, omega, &s.z).unwrap();
+            let es = predicted_error(rom, omega, &s.z).unwrap();
+            let ea = actual_error(rom, omega, &s.z, &fo).unwrap();
+            let el = linearised_error(rom, &condensed, omega, &s.z).unwrap();
             // The linearised error is the actual error to first order (none asked below the
             // full-order solution's own accuracy) ...
             assert!(ea[1] < FO_ACCURACY || (el[1] - ea[1]).abs() <= 0.05 * ea[1], "H={harmonics} scale={scale} extra={extra}: e_lin_1 {} vs e_1 {}", el[1], ea[1]);

@@ -28,8 +28,8 @@ fn lightly_forced() -> jprom::model::Model {
 #[test]
 fn forced_stall_reports_where_and_why_in_rust() {
     let model = lightly_forced();
-    let normal = HbmOptions::with_harmonics(1);
-    let sys = CondensedSystem::new(&model, &normal).unwrap();
+    let normal = HbmOptions::default();
+    let sys = CondensedSystem::new(&model, 1).unwrap();
     let full = sweep(&sys, &SweepOptions::band(BAND.0, BAND.1), &normal, &mut |_| ControlFlow::Continue(())).unwrap();
     assert_eq!(full.end, SweepEnd::ReachedEnd);
     assert!(full.failure.is_none());
@@ -52,8 +52,8 @@ fn a_points_iterations_stay_within_max_iterations() {
     // from zero at the resonance the first attempt fails and load stepping takes over
     let model = examples_model();
     for max in [3, 10, 50] {
-        let opts = HbmOptions { max_iterations: max, ..HbmOptions::with_harmonics(3) };
-        let sys = CondensedSystem::new(&model, &opts).unwrap();
+        let opts = HbmOptions { max_iterations: max, ..HbmOptions::default() };
+        let sys = CondensedSystem::new(&model, 3).unwrap();
         for omega in [100.0, 120.0, 140.0] {
             match solve_point(&sys, omega, None, &opts) {
                 Ok(p) => assert!(p.iterations <= max, "{} iterations with max_iterations = {max}", p.iterations),
@@ -67,8 +67,8 @@ fn a_points_iterations_stay_within_max_iterations() {
 #[test]
 fn the_point_cap_says_where_it_stopped() {
     let model = examples_model();
-    let opts = HbmOptions::with_harmonics(1);
-    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = CondensedSystem::new(&model, 1).unwrap();
     let r = sweep(&sys, &SweepOptions { max_points: 5, ..SweepOptions::band(BAND.0, BAND.1) }, &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     assert_eq!(r.end, SweepEnd::MaxPoints);
     assert_eq!(r.points.len(), 5);
@@ -79,13 +79,13 @@ fn the_point_cap_says_where_it_stopped() {
 #[test]
 fn a_reversed_band_is_swept_downwards_by_both_sweeps() {
     let model = examples_model();
-    let opts = HbmOptions::with_harmonics(1);
-    let sys = CondensedSystem::new(&model, &opts).unwrap();
+    let opts = HbmOptions::default();
+    let sys = CondensedSystem::new(&model, 1).unwrap();
     let down = SweepOptions::band(BAND.1, BAND.0);
     let fo = sweep(&sys, &down, &opts, &mut |_| ControlFlow::Continue(())).unwrap();
     assert_eq!(fo.end, SweepEnd::ReachedEnd);
     assert!(fo.points.windows(2).all(|w| w[1].omega < w[0].omega), "strictly downwards");
-    let a = adaptive_sweep(&model, &PredictionOptions::new(BAND), &down, &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
+    let a = adaptive_sweep(&model, 1, &PredictionOptions::new(BAND), &down, &opts, &AdaptiveOptions { kind: RomKind::Nlr, ..Default::default() }).unwrap();
     assert_eq!(a.sweep.end, SweepEnd::ReachedEnd);
     assert_eq!(a.sweep.points.first().unwrap().omega, BAND.1);
     assert_eq!(a.sweep.points.last().unwrap().omega, BAND.0);
@@ -94,12 +94,12 @@ fn a_reversed_band_is_swept_downwards_by_both_sweeps() {
 #[test]
 fn an_unreachable_threshold_without_a_correction_limit_ends() {
     let model = examples_model();
-    let opts = HbmOptions::with_harmonics(1);
+    let opts = HbmOptions::default();
     let mut pred = PredictionOptions::new(BAND);
     pred.n_samples = 20;
     let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-300, max_corrections: usize::MAX, ..Default::default() };
     let t = std::time::Instant::now();
-    let a = adaptive_sweep(&model, &pred, &SweepOptions::band(BAND.0, BAND.1), &opts, &aopts).unwrap();
+    let a = adaptive_sweep(&model, 1, &pred, &SweepOptions::band(BAND.0, BAND.1), &opts, &aopts).unwrap();
     println!("{} corrections in {:?}, end {:?}", a.corrections.len(), t.elapsed(), a.end);
     assert_eq!(a.end, CorrectionEnd::NoProgress);
     assert!(a.corrections.len() < 50);

@@ -28,8 +28,8 @@ fn sweep_that_folds_back_past_its_start_ends_with_left_band() {
     let model = gap_oscillator();
     // A fine AFT grid: with the default one the contact's engagement time jumps between
     // samples near the fold, and the corrector stalls there at a residual of ~4e-8.
-    let hopts = HbmOptions { nt: Some(512), ..HbmOptions::with_harmonics(1) };
-    let full = FullSystem::new(&model, &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let full = FullSystem::new(&model, jprom::hbm::Discretisation::with_nt(1, 512)).unwrap();
     // Upward sweep: the branch turns back at the overhang's tip omega_peak and forward again
     // at the lower fold omega_fold.
     let up = sweep(&full, &SweepOptions { max_step: 0.02, ..SweepOptions::band(0.6, 3.0) }, &hopts, &mut |_| ControlFlow::Continue(())).unwrap();

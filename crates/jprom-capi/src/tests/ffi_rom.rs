@@ -6,7 +6,6 @@ use faer::Mat;
 use jprom::condensation::CondensedSystem;
 use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use crate::*;
-use jprom::aft::AftPlan;
 use jprom::rom::error_metric::actual_error;
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
@@ -68,13 +67,13 @@ fn rom_sweep_through_c_matches_the_rust_api() {
     let band = (80.0, 200.0);
     // Rust
     let model = rust_model();
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
     let mut p = PredictionOptions::new(band);
     p.gamma = 1e3;
     p.n_samples = 30;
-    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
-    let cond = CondensedSystem::new(&model, &hopts).unwrap();
+    let (basis, _) = predict_basis(&coords, &p).unwrap();
+    let cond = CondensedSystem::new(&model, 1).unwrap();
     let rom = NlrRom::new(&cond, &basis).unwrap();
     let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
     unsafe {
@@ -171,7 +170,7 @@ fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
     let mut p = PredictionOptions::new(band);
     p.n_samples = 30;
     p.modes.extra_outside = 2;
-    let (basis, _) = predict_basis(&coords, &jprom::aft::AftPlan::new(1, jprom::hbm::default_nt(1)).unwrap(), &p).unwrap();
+    let (basis, _) = predict_basis(&coords, &p).unwrap();
     unsafe {
         let (opts, _, mut jo) = c_options(band);
         let a = AdaptiveOptions::default();
@@ -206,7 +205,7 @@ fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
 fn adaptive_sweep_through_c_matches_the_rust_api() {
     let band = (80.0, 200.0);
     let model = rust_model();
-    let hopts = HbmOptions::with_harmonics(1);
+    let hopts = HbmOptions::default();
     let mut pred = PredictionOptions::new(band);
     pred.n_samples = 30;
     // the predicted basis is good to ~1e-9 on this model: a threshold below that forces both
@@ -214,7 +213,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     // gamma)
     let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 3, ..AdaptiveOptions::default() };
     let mut per_pass = std::collections::BTreeMap::<usize, usize>::new();
-    let expect = adaptive_sweep_with_progress(&model, &pred, &SweepOptions::band(band.0, band.1), &hopts, &aopts, &mut |pass, _| {
+    let expect = adaptive_sweep_with_progress(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &aopts, &mut |pass, _| {
         *per_pass.entry(pass).or_default() += 1;
         ControlFlow::Continue(())
     })
@@ -299,7 +298,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let mut fr = std::ptr::null_mut();
         ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_FR as c_int, &opts, &sopts, &jo, None, std::ptr::null_mut(), &mut fr, std::ptr::null_mut()));
         let pred = PredictionOptions::new(band);
-        let fr_expect = adaptive_sweep(&model, &pred, &SweepOptions::band(band.0, band.1), &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..AdaptiveOptions::default() }).unwrap();
+        let fr_expect = adaptive_sweep(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &AdaptiveOptions { kind: RomKind::Fr, ..AdaptiveOptions::default() }).unwrap();
         let fr_rows = c_rows(fr);
         assert_eq!(fr_rows.len(), fr_expect.sweep.points.len());
         assert_eq!(fr_rows.last().unwrap().2, fr_expect.predicted_errors.last().unwrap()[1]);
@@ -330,8 +329,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
 fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
     let band = (80.0, 200.0);
     let omega = 120.0;
-    let hopts = HbmOptions::with_harmonics(1);
-    let plan = AftPlan::new(1, hopts.nt()).unwrap();
+    let hopts = HbmOptions::default();
     unsafe {
         let m = c_model();
         // The Rust side works on the model the C API holds (saved and reloaded bit for bit).
@@ -341,7 +339,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         let model: Model = jprom::io::load_json("model", &mpath).unwrap();
         let _ = std::fs::remove_file(&mpath);
         let coords = ContactCoordinates::new(&model, 1).unwrap();
-        let cond = CondensedSystem::new(&model, &hopts).unwrap();
+        let cond = CondensedSystem::new(&model, 1).unwrap();
         let fo = solve_point(&cond, omega, None, &hopts).unwrap();
         let (opts, sopts, mut jo) = c_options(band);
         jo.extra_outside = 2;
@@ -362,7 +360,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         assert!(d <= 1e-10 * zmax, "C and Rust full-order solutions differ by {d:e}");
         let mut modes = ModeOptions::in_band(band);
         modes.extra_outside = 2;
-        let basis = JpBasis::from_solution(&coords, &fo_c, &plan, &BasisOptions { modes, gamma: 1e3 }).unwrap();
+        let basis = JpBasis::from_solution(&coords, &fo_c, &BasisOptions { modes, gamma: 1e3 }).unwrap();
         let rom = NlrRom::new(&cond, &basis).unwrap();
         let expect = sweep(&rom, &SweepOptions::band(band.0, band.1), &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
         let mut b = std::ptr::null_mut();
@@ -378,7 +376,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         // the actual error at the first reduced point against a full-order solve there
         let p0 = &expect.points[0];
         let fo0 = solve_point(&cond, p0.omega, None, &hopts).unwrap();
-        let want = actual_error(&rom, &plan, p0.omega, &p0.z, &fo0).unwrap();
+        let want = actual_error(&rom, p0.omega, &p0.z, &fo0).unwrap();
         let mut rs = std::ptr::null_mut();
         ok(jprom_sweep_point(s, 0, &mut rs));
         let mut fs0 = std::ptr::null_mut();

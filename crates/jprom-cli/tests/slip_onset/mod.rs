@@ -9,7 +9,6 @@
 
 #![allow(dead_code)]
 
-use jprom::aft::AftPlan;
 use jprom_cli::run::build_model;
 use jprom_cli::study::Study;
 use jprom::fe::{BladeParams, BuiltinBlade, PlateFe, PlateParams};
@@ -91,8 +90,7 @@ pub fn preloaded_blade() -> (Model, (f64, f64)) {
     let band = (TWO_PI * 2140.0, TWO_PI * 2190.0);
     let mut model = cb.to_model(Damping::from_modal_ratio(0.002, 0.5 * (band.0 + band.1))).unwrap();
     let coords = ContactCoordinates::new(&model, 1).unwrap();
-    let plan = AftPlan::new(1, 64).unwrap();
-    let z0 = static_solution(&coords, &plan).unwrap();
+    let z0 = static_solution(&coords).unwrap();
     for (c, &off) in model.contacts.iter_mut().zip(&coords.offsets) {
         if let ContactLaw::Friction3D { kn, ref mut n0, .. } = c.law {
             *n0 = kn * z0[off + 2];
@@ -109,8 +107,7 @@ pub fn limit_of(model: &Model, band: (f64, f64), harmonics: usize) -> StuckLimit
     let mut m = model.clone();
     m.excitation.dynamic_scale = 1.0;
     let coords = ContactCoordinates::new(&m, harmonics).unwrap();
-    let plan = AftPlan::new(harmonics, HbmOptions::with_harmonics(harmonics).nt()).unwrap();
-    let z0 = static_solution(&coords, &plan).unwrap();
+    let z0 = static_solution(&coords).unwrap();
     let (w_st, _) = stuck_mode(&coords, band).unwrap();
     stuck_limit(&coords, &z0, w_st).unwrap()
 }
@@ -186,8 +183,8 @@ pub fn run_level(model: &Model, limit: &StuckLimit, band: (f64, f64), harmonics:
     compare_output(model);
     let mut model = model.clone();
     model.excitation.dynamic_scale = limit.scale_at(level).unwrap();
-    let hopts = HbmOptions::with_harmonics(harmonics);
-    let condensed = CondensedSystem::new(&model, &hopts).unwrap();
+    let hopts = HbmOptions::default();
+    let condensed = CondensedSystem::new(&model, harmonics).unwrap();
     let sopts = SweepOptions::band(band.0, band.1);
     let t = std::time::Instant::now();
     let fo = sweep(&condensed, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).unwrap();
@@ -196,12 +193,11 @@ pub fn run_level(model: &Model, limit: &StuckLimit, band: (f64, f64), harmonics:
     let p = peak(&fo.points);
     let samples: usize = p.contact_cycles.iter().map(|c| c.states.len()).sum();
     let slipping: usize = p.contact_cycles.iter().map(|c| c.states.iter().filter(|s| **s != jprom::contact::ContactState::Stick).count()).sum();
-    let plan = AftPlan::new(harmonics, hopts.nt()).unwrap();
     let coords = ContactCoordinates::new(&model, harmonics).unwrap();
     let mut report = LevelReport { level, slip_fraction: slipping as f64 / samples as f64, fo_points: fo.points.len(), fo_seconds, rom: Vec::new() };
     for kind in [RomKind::Fr, RomKind::Nlr] {
         let pred = PredictionOptions::new(band);
-        let a = adaptive_sweep(&model, &pred, &sopts, &hopts, &AdaptiveOptions { kind, ..AdaptiveOptions::default() }).unwrap();
+        let a = adaptive_sweep(&model, harmonics, &pred, &sopts, &hopts, &AdaptiveOptions { kind, ..AdaptiveOptions::default() }).unwrap();
         let rom: Box<dyn ReducedModel> = match kind {
             RomKind::Fr => Box::new(FrRom::new(&coords, &a.basis).unwrap()),
             RomKind::Nlr => Box::new(NlrRom::new(&condensed, &a.basis).unwrap()),
@@ -216,12 +212,12 @@ pub fn run_level(model: &Model, limit: &StuckLimit, band: (f64, f64), harmonics:
         let mut max_e1 = 0.0f64;
         for (q, e_star) in a.sweep.points.iter().zip(&a.predicted_errors) {
             let Some(f) = full_order_at(&condensed, &fo, q.omega, x1(q), &hopts) else { panic!("level {level}: no full-order point at {}", q.omega) };
-            let e = actual_error(rom.as_ref(), &plan, q.omega, &q.z, &f).unwrap();
+            let e = actual_error(rom.as_ref(), q.omega, &q.z, &f).unwrap();
             max_e1 = max_e1.max(e[1]);
             if e[1] > 1e-6 {
                 compared += 1;
                 if e_star[1] < e[1] {
-                    let lin = linearised_error(rom.as_ref(), &condensed, &plan, q.omega, &q.z).map(|v| v[1]).unwrap_or(f64::NAN);
+                    let lin = linearised_error(rom.as_ref(), &condensed, q.omega, &q.z).map(|v| v[1]).unwrap_or(f64::NAN);
                     not_conservative.push((q.omega, e_star[1], e[1]));
                     let _ = lin;
                 }

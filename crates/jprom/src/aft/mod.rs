@@ -15,8 +15,10 @@
 //! `F` is the element force (`T1, T2, N` for 3D), positive when it resists `w`; the force on
 //! the structure is `-F`. So `dF/dw` is the contact stiffness `K̂` of docs/formulation.md §2.
 
+mod discretisation;
 mod fourier;
 
+pub use discretisation::{default_nt, Discretisation};
 pub use fourier::{AftBackend, TABLES_MAX_H};
 
 use crate::contact::elastic::{Friction2D, Polynomial, Unilateral};

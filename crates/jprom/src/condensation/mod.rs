@@ -18,7 +18,8 @@
 use crate::contact::Contacts;
 use crate::error::{JpError, Result};
 use crate::hbm::options::check_omega;
-use crate::hbm::{HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use crate::aft::Discretisation;
+use crate::hbm::{HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::linalg::lu_checked;
 use crate::model::contact_coordinates::dissipation;
 use crate::model::{ContactCoordinates, Model};
@@ -45,19 +46,20 @@ fn block(c: &ContactCoordinates, omega: f64, h: usize, r0: usize, nr: usize, c0:
 }
 
 impl CondensedSystem {
-    /// Builds the condensed system for `opts.harmonics` harmonics and does the static
-    /// condensation (`h = 0`) once.
+    /// Builds the condensed system with the harmonics and AFT samples of `discretisation`
+    /// (`H` alone takes the default `Nt`) and does the static condensation (`h = 0`) once.
     ///
     /// # Errors
     /// The model's validation errors; [`JpError::InvalidValue`] if the model has no contact
     /// (nothing to condense onto) or bad options; [`JpError::SingularMatrix`] if `K_LL` is
     /// singular (the structure is not held when its contact nodes are fixed).
-    pub fn new(model: &Model, opts: &HbmOptions) -> Result<Self> {
-        opts.validate()?;
+    pub fn new(model: &Model, discretisation: impl Into<Discretisation>) -> Result<Self> {
+        let discretisation = discretisation.into();
+        discretisation.validate()?;
         if model.contacts.is_empty() {
             return Err(JpError::invalid("CondensedSystem", "the model has no contact to condense onto"));
         }
-        let coords = ContactCoordinates::new(model, opts.harmonics)?;
+        let coords = ContactCoordinates::new(model, discretisation)?;
         let (n, nw) = (coords.n_dof, coords.n_w);
         let nl = n - nw;
         let k = &coords.stiffness;
@@ -83,7 +85,7 @@ impl CondensedSystem {
                 .collect();
             (h0, g0)
         };
-        let layout = HarmonicLayout::uniform(opts.harmonics, nw);
+        let layout = HarmonicLayout::uniform(discretisation.harmonics, nw);
         Ok(CondensedSystem { coords, layout, h0, g0 })
     }
 

@@ -323,6 +323,8 @@ pub struct Contacts<'a> {
     pub laws: &'a [ContactLaw],
     pub offsets: &'a [usize],
     pub n_w: usize,
+    /// AFT time samples per period the contact forces are evaluated with (the system's `Nt`).
+    pub nt: usize,
 }
 
 /// Where a contact sits: the DoFs of node `a` (and `b` for a pair) and the local frame.

@@ -388,13 +388,7 @@ pub fn sweep_from(
 ) -> Result<SweepResult> {
     sopts.validate()?;
     hopts.validate()?;
-    if system.layout().harmonics != hopts.harmonics {
-        return Err(JpError::invalid(
-            "HbmOptions.harmonics",
-            format!("system has H = {}, options say {}", system.layout().harmonics, hopts.harmonics),
-        ));
-    }
-    let plan = plan_for(system, hopts)?;
+    let plan = plan_for(system)?;
     let plan = plan.as_ref();
     let mut ws = ResidualWorkspace::new();
     let n = system.layout().total();
@@ -608,10 +602,10 @@ mod tests {
     #[test]
     fn corrector_iterations_reuse_their_buffers() {
         for (n, storage) in [(200, Storage::Sparse), (12, Storage::Dense)] {
-            let hopts = HbmOptions::with_harmonics(3);
-            let system = FullSystem::with_storage(&chain(n), &hopts, storage).unwrap();
+            let hopts = HbmOptions::default();
+            let system = FullSystem::with_storage(&chain(n), 3, storage).unwrap();
             let sopts = SweepOptions::band(0.5, 1.0);
-            let plan = plan_for(&system, &hopts).unwrap();
+            let plan = plan_for(&system).unwrap();
             let point = crate::hbm::solve_point(&system, 0.75, None, &hopts).unwrap();
             let y0: Vec<f64> = point.z.iter().copied().chain([0.75]).collect();
             let t: Vec<f64> = (0..y0.len()).map(|i| if i + 1 == y0.len() { 1.0 } else { 1e-3 * y0[i] }).collect();

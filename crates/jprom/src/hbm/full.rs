@@ -3,7 +3,7 @@
 //! [`ContactMap::Leading`]). Per harmonic `D_h = K - (h omega)^2 M + i h omega C`, `D_0 = K`
 //! (docs/formulation.md §2).
 
-use super::{HarmonicLayout, HarmonicSystem, HbmOptions, LinearPart};
+use super::{Discretisation, HarmonicLayout, HarmonicSystem, LinearPart};
 use crate::contact::Contacts;
 use crate::error::{JpError, Result};
 use crate::linalg::{Matrix, SparseMat};
@@ -75,27 +75,27 @@ pub struct FullSystem {
 }
 
 impl FullSystem {
-    /// Builds the system for `opts.harmonics` harmonics, stored as [`Storage::Auto`] chooses.
+    /// Builds the system with the harmonics and AFT samples of `discretisation` (`H` alone
+    /// takes the default `Nt`), stored as [`Storage::Auto`] chooses.
     ///
     /// # Errors
     /// The model's validation errors; [`JpError::InvalidValue`] for bad options;
     /// [`JpError::SingularMatrix`] when the model has no contact and `K` is singular (the
     /// static problem `K q_0 = f_0` then has no unique solution).
-    pub fn new(model: &Model, opts: &HbmOptions) -> Result<Self> {
-        Self::with_storage(model, opts, Storage::Auto)
+    pub fn new(model: &Model, discretisation: impl Into<Discretisation>) -> Result<Self> {
+        Self::with_storage(model, discretisation, Storage::Auto)
     }
 
     /// Builds the system with the given storage.
     ///
     /// # Errors
     /// As [`FullSystem::new`].
-    pub fn with_storage(model: &Model, opts: &HbmOptions, storage: Storage) -> Result<Self> {
-        opts.validate()?;
-        let coords = ContactCoordinates::new(model, opts.harmonics)?;
+    pub fn with_storage(model: &Model, discretisation: impl Into<Discretisation>, storage: Storage) -> Result<Self> {
+        let coords = ContactCoordinates::new(model, discretisation)?;
         if model.contacts.is_empty() {
             crate::linalg::check_nonsingular(&coords.stiffness, "stiffness K of a model without contacts")?;
         }
-        let layout = HarmonicLayout::uniform(opts.harmonics, coords.n_dof);
+        let layout = HarmonicLayout::uniform(coords.discretisation.harmonics, coords.n_dof);
         let sparse = match storage {
             Storage::Dense => None,
             Storage::Sparse => Some(SparseParts::new(&coords)),

@@ -26,6 +26,7 @@ pub mod full;
 pub use continuation::{sweep, sweep_from};
 pub use full::{FullSystem, Storage};
 pub use layout::HarmonicLayout;
+pub use crate::aft::Discretisation;
 pub use options::{default_nt, HbmOptions, SweepOptions};
 pub use solution::{PointSolution, SweepEnd, SweepResult, LEFT_BAND_MARGIN};
 pub use solve::solve_point;
@@ -77,6 +78,15 @@ impl LinearPart {
 pub trait HarmonicSystem: Sync {
     /// Harmonics and unknowns per harmonic.
     fn layout(&self) -> &HarmonicLayout;
+    /// AFT time samples per period `Nt`, given when the system was built (with its `H`, the
+    /// system's [`Discretisation`]).
+    fn aft_samples(&self) -> usize {
+        self.contacts().nt
+    }
+    /// `H` (the layout's) and `Nt`.
+    fn discretisation(&self) -> Discretisation {
+        Discretisation::with_nt(self.layout().harmonics, self.aft_samples())
+    }
     /// The contacts: laws, offsets in `w`, `n_w`.
     fn contacts(&self) -> Contacts<'_>;
     /// Laws of the contacts, in order.

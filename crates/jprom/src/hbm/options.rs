@@ -3,13 +3,11 @@
 use crate::error::{JpError, Result};
 use serde::{Deserialize, Serialize};
 
-/// Settings of one harmonic-balance solve (docs/formulation.md §2, §5).
+/// Settings of the Newton solve of one harmonic-balance point (docs/formulation.md §5). The
+/// harmonics and AFT samples are the system's ([`crate::aft::Discretisation`], given when it is
+/// built), not the solver's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HbmOptions {
-    /// Highest harmonic `H` (default 1). The static term `h = 0` is always included.
-    pub harmonics: usize,
-    /// AFT time samples per period; `None` (default) picks [`default_nt`]`(H)`.
-    pub nt: Option<usize>,
     /// Converged when `|r| <= residual_tolerance * |f_ref|`, with `f_ref` the larger of the
     /// external force norm and the contact force norm at the initial guess (default `1e-10`).
     pub residual_tolerance: f64,
@@ -33,23 +31,11 @@ pub struct HbmOptions {
     pub scaling: bool,
 }
 
-/// Default AFT sample count: 64 for `H <= 3`, else the next power of two at or above
-/// `16 (H + 1)` (128 for `H = 4..=7`, 256 up to 15), so that friction's higher harmonics
-/// alias little into `0..=H` (docs/formulation.md §4).
-pub fn default_nt(harmonics: usize) -> usize {
-    if harmonics <= 3 {
-        64
-    } else {
-        // saturating: an absurd H gets an absurd nt, which `validate` then refuses
-        16usize.saturating_mul(harmonics.saturating_add(1)).checked_next_power_of_two().unwrap_or(usize::MAX)
-    }
-}
+pub use crate::aft::default_nt;
 
 impl Default for HbmOptions {
     fn default() -> Self {
         HbmOptions {
-            harmonics: 1,
-            nt: None,
             residual_tolerance: 1e-10,
             step_tolerance: 1e-14,
             max_iterations: 400,
@@ -61,35 +47,11 @@ impl Default for HbmOptions {
 }
 
 impl HbmOptions {
-    /// Options with `H = harmonics` and the defaults otherwise.
-    pub fn with_harmonics(harmonics: usize) -> Self {
-        HbmOptions { harmonics, ..Default::default() }
-    }
-
-    /// The AFT sample count in effect.
-    pub fn nt(&self) -> usize {
-        self.nt.unwrap_or_else(|| default_nt(self.harmonics))
-    }
-
-    /// Checks ranges, and the sizes against jprom's caps ([`crate::limits::MAX_HARMONICS`],
-    /// [`crate::limits::MAX_NT`]) before anything is sized by them.
+    /// Checks ranges.
     ///
     /// # Errors
-    /// [`JpError::InvalidValue`] naming the bad option; [`JpError::OverLimit`] for a size
-    /// above its cap.
+    /// [`JpError::InvalidValue`] naming the bad option.
     pub fn validate(&self) -> Result<()> {
-        if self.harmonics == 0 {
-            return Err(JpError::invalid("HbmOptions.harmonics", "must be >= 1"));
-        }
-        crate::limits::at_most("HbmOptions.harmonics", self.harmonics, crate::limits::MAX_HARMONICS)?;
-        let nt = self.nt();
-        crate::limits::at_most("HbmOptions.nt", nt, crate::limits::MAX_NT)?;
-        if !nt.is_power_of_two() || nt < 4 * (self.harmonics + 1) {
-            return Err(JpError::invalid(
-                "HbmOptions.nt",
-                format!("must be a power of two >= 4 (H + 1) = {}, got {nt}", 4 * (self.harmonics + 1)),
-            ));
-        }
         positive("HbmOptions.residual_tolerance", self.residual_tolerance)?;
         if !(self.step_tolerance.is_finite() && self.step_tolerance >= 0.0) {
             return Err(JpError::invalid("HbmOptions.step_tolerance", "must be finite and >= 0"));

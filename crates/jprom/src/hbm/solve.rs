@@ -32,12 +32,12 @@ pub(crate) fn reference_force(lin: &LinearPart, contact_force_norm: f64, r0: f64
     }
 }
 
-/// The AFT plan a system needs (`None` without contacts).
-pub(crate) fn plan_for(system: &dyn HarmonicSystem, opts: &HbmOptions) -> Result<Option<AftPlan>> {
+/// The AFT plan of a system's discretisation (`None` without contacts).
+pub(crate) fn plan_for(system: &dyn HarmonicSystem) -> Result<Option<AftPlan>> {
     if system.contact_laws().is_empty() {
         Ok(None)
     } else {
-        AftPlan::new(system.layout().harmonics, opts.nt()).map(Some)
+        system.discretisation().plan().map(Some)
     }
 }
 
@@ -147,12 +147,6 @@ pub fn solve_point(
     opts: &HbmOptions,
 ) -> Result<PointSolution> {
     opts.validate()?;
-    if system.layout().harmonics != opts.harmonics {
-        return Err(JpError::invalid(
-            "HbmOptions.harmonics",
-            format!("system has H = {}, options say {}", system.layout().harmonics, opts.harmonics),
-        ));
-    }
     super::options::check_omega(omega)?;
     let n = system.layout().total();
     let z0 = match z_guess {
@@ -165,7 +159,7 @@ pub fn solve_point(
         }
         None => vec![0.0; n],
     };
-    let plan = plan_for(system, opts)?;
+    let plan = plan_for(system)?;
     let lin = system.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
     let outcome = solve_with_fallback(AtFrequency { system, plan: plan.as_ref(), opts, omega }, &lin, z0, &mut ws)?;

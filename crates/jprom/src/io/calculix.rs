@@ -167,17 +167,25 @@ impl CalculixMesh {
 /// The node set `name` of `sets` (case-insensitive), or an error naming the sets there are and
 /// where they come from (`deck`).
 pub(crate) fn node_set_of<'a>(sets: &'a BTreeMap<String, Vec<i64>>, name: &str, deck: &Path) -> Result<&'a [i64]> {
+    let source = if deck.as_os_str().is_empty() { "the model".to_string() } else { deck.display().to_string() };
+    node_set_in(sets, name, &source)
+}
+
+/// The node set `name` of `sets` (names in upper case, looked up case-insensitively as CalculiX
+/// does), or an error naming the sets there are and where they come from (`source`: a deck's
+/// path, "the model", ...). The one node-set lookup of jprom: FE models, meshes, the C API and
+/// the study checks use it.
+///
+/// # Errors
+/// [`JpError::InvalidValue`] if there is no such set.
+pub fn node_set_in<'a>(sets: &'a BTreeMap<String, Vec<i64>>, name: &str, source: &str) -> Result<&'a [i64]> {
     match sets.get(&name.to_ascii_uppercase()) {
         Some(s) => Ok(s),
         None => {
             let known: Vec<&str> = sets.keys().map(String::as_str).collect();
             Err(JpError::invalid(
                 format!("node set '{name}'"),
-                format!(
-                    "{} defines no such set (its node sets: {})",
-                    if deck.as_os_str().is_empty() { "the model".to_string() } else { deck.display().to_string() },
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
-                ),
+                format!("{source} defines no such set (its node sets: {})", if known.is_empty() { "none".to_string() } else { known.join(", ") }),
             ))
         }
     }

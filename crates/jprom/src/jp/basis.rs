@@ -4,7 +4,7 @@
 use super::conditioning::condition;
 use super::modes::{jp_modes, JpModes, ModeOptions};
 use super::ContactJacobian;
-use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
+use crate::aft::{evaluate_contacts, ContactForces};
 use crate::error::{JpError, Result};
 use crate::io::documents::{bad, finite, Check, Document};
 use crate::limits::MAX_HARMONICS;
@@ -119,13 +119,14 @@ impl JpBasis {
     /// (docs/formulation.md §8; tests/rom_reproduce.rs).
     ///
     /// # Errors
-    /// [`JpError::InvalidValue`] if `fo`'s `H` differs from `plan`'s; [`JpError::BadSize`] if
+    /// [`JpError::InvalidValue`] if `fo`'s `H` differs from `coords`'; [`JpError::BadSize`] if
     /// `fo` is not laid out as a full-order or condensed solution of `coords` (e.g. a reduced
     /// solution); as [`JpBasis::from_jacobian`].
-    pub fn from_solution(coords: &ContactCoordinates, fo: &PointSolution, plan: &AftPlan, opts: &BasisOptions) -> Result<Self> {
+    pub fn from_solution(coords: &ContactCoordinates, fo: &PointSolution, opts: &BasisOptions) -> Result<Self> {
+        let plan = &coords.discretisation.plan()?;
         let hh = plan.harmonics();
         if fo.layout.harmonics != hh {
-            return Err(JpError::invalid("full-order solution", format!("H = {}, AFT plan H = {hh}", fo.layout.harmonics)));
+            return Err(JpError::invalid("full-order solution", format!("H = {}, the coordinates' H = {hh}", fo.layout.harmonics)));
         }
         let n0 = fo.layout.sizes[0];
         if (n0 != coords.n_dof && n0 != coords.n_w) || fo.layout.sizes.iter().any(|&s| s != n0) {

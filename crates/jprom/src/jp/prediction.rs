@@ -160,9 +160,10 @@ fn eval(coords: &ContactCoordinates, plan: &AftPlan, w: &[f64], jac: bool, cycle
 ///
 /// # Errors
 /// [`JpError::SingularMatrix`], [`JpError::NoConvergence`].
-pub fn static_solution(coords: &ContactCoordinates, plan: &AftPlan) -> Result<Vec<f64>> {
+pub fn static_solution(coords: &ContactCoordinates) -> Result<Vec<f64>> {
     let n = coords.n_dof;
     let nw = coords.n_w;
+    let plan = &coords.discretisation.plan()?;
     let hh = plan.harmonics();
     let f0 = Mat::from_fn(n, 1, |i, _| coords.static_force[i]);
     let x = lu_solve("K + stuck contact stiffness", &coords.stuck_stiffness(), &f0)?;
@@ -251,21 +252,19 @@ fn pattern(forces: &ContactForces) -> Vec<u8> {
 }
 
 /// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution, with the
-/// harmonics `H` and AFT samples of `plan` (the system's; `coords` must hold forces up to `H`).
+/// harmonics `H` and AFT samples of `coords` ([`ContactCoordinates::discretisation`]).
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
-pub fn predict_basis(coords: &ContactCoordinates, plan: &AftPlan, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
+pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
     let n = coords.n_dof;
     let nw = coords.n_w;
+    let plan = &coords.discretisation.plan()?;
     let hh = plan.harmonics();
-    if coords.harmonic_force.len() < hh {
-        return Err(JpError::invalid("contact coordinates", format!("built for H = {}, the AFT plan has H = {hh}", coords.harmonic_force.len())));
-    }
     if opts.n_samples == 0 {
         return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
     }
-    let q_static = static_solution(coords, plan)?;
+    let q_static = static_solution(coords)?;
     let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
         GeneratingShape::StuckMode => {
             let (w_st, phi) = stuck_mode(coords, opts.modes.band)?;

@@ -8,6 +8,7 @@
 //! Node pairs become a contact coordinate plus ordinary linear DoFs, which is what makes the
 //! condensation of §5 and the contact rows of the JP bases (§9) simple.
 
+use crate::aft::Discretisation;
 use crate::contact::{Contact, ContactLaw};
 use std::collections::HashMap;
 use crate::error::{JpError, Result};
@@ -45,6 +46,9 @@ pub struct ContactCoordinates {
     pub harmonic_force: Vec<(Vec<f64>, Vec<f64>)>,
     /// Output DoFs of the model (physical indices).
     pub output_dofs: Vec<usize>,
+    /// Harmonics `0..=H` (the forces above are for `1..=H`) and AFT samples: the
+    /// discretisation of every system built on these coordinates.
+    pub discretisation: Discretisation,
 }
 
 /// Imaginary part of the dynamic stiffness `D_h = K - (h w)^2 M + i (h w C + eta K)` at
@@ -82,8 +86,16 @@ impl ContactCoordinates {
     }
 
     /// Builds the transformation for `model` and transforms its matrices, with forces for
-    /// harmonics `1..=harmonics`. Cost `O(n^2)` per matrix.
-    pub fn new(model: &Model, harmonics: usize) -> Result<Self> {
+    /// harmonics `1..=H` of `discretisation` (`H` alone takes the default `Nt`:
+    /// `ContactCoordinates::new(&model, 3)`). Cost `O(n^2)` per matrix.
+    ///
+    /// # Errors
+    /// The discretisation's ([`Discretisation::validate`]) and the model's validation errors;
+    /// bad contact groups.
+    pub fn new(model: &Model, discretisation: impl Into<Discretisation>) -> Result<Self> {
+        let discretisation = discretisation.into();
+        discretisation.validate()?;
+        let harmonics = discretisation.harmonics;
         model.validate()?;
         let n = model.n_dof();
         let groups = ContactGroups::new(&model.contacts, n)?;
@@ -195,12 +207,13 @@ impl ContactCoordinates {
             static_force,
             harmonic_force,
             output_dofs: model.output_dofs.clone(),
+            discretisation,
         })
     }
 
     /// The contacts as the AFT sees them.
     pub fn contacts(&self) -> crate::contact::Contacts<'_> {
-        crate::contact::Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w }
+        crate::contact::Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w, nt: self.discretisation.nt() }
     }
 
     /// Physical displacement `x = T z` of one harmonic component.

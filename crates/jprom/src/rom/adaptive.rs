@@ -25,7 +25,7 @@
 //! largest `gamma` would only be repeated); [`AdaptiveSweep::end`] says which.
 
 use super::{ReducedModel, RomKind};
-use crate::aft::AftPlan;
+use crate::aft::Discretisation;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
 use crate::rom::error_metric::{linearised_error, POOR_BASIS_THRESHOLD};
@@ -158,7 +158,6 @@ fn run_pass(
     condensed: Option<&CondensedSystem>,
     sopts: &SweepOptions,
     hopts: &HbmOptions,
-    plan: &AftPlan,
     (pass, response): (usize, usize),
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<Pass> {
@@ -187,7 +186,7 @@ fn run_pass(
         for i in at {
             let p = &sw.points[i];
             // A singular full-order Jacobian at this point leaves it unchecked.
-            if let Ok(e) = linearised_error(rom, condensed, plan, p.omega, &p.z) {
+            if let Ok(e) = linearised_error(rom, condensed, p.omega, &p.z) {
                 checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1] });
                 if !(e[1] <= judged) {
                     judged = if e[1].is_nan() { f64::INFINITY } else { e[1] };
@@ -211,24 +210,26 @@ fn check_options(aopts: &AdaptiveOptions) -> Result<()> {
 }
 
 /// Whether the condensed full-order Jacobian is small enough for the error checks.
-fn checkable(coords: &ContactCoordinates, hopts: &HbmOptions) -> bool {
-    coords.n_w > 0 && (2 * hopts.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS
+fn checkable(coords: &ContactCoordinates) -> bool {
+    coords.n_w > 0 && (2 * coords.discretisation.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS
 }
 
-/// Predicts a JP basis for `model`, sweeps the reduced model over `sopts`' band and corrects
-/// the basis while the worst `e*_1` exceeds `aopts.threshold` (see the module doc). The band
-/// of the JP modes is `pred.modes.band`.
+/// Predicts a JP basis for `model` discretised by `discretisation` (`H` alone takes the
+/// default `Nt`), sweeps the reduced model over `sopts`' band and corrects the basis while the
+/// worst `e*_1` exceeds `aopts.threshold` (see the module doc). The band of the JP modes is
+/// `pred.modes.band`.
 ///
 /// # Errors
 /// Model, prediction and ROM construction errors; the first reduced point's solve error.
 pub fn adaptive_sweep(
     model: &Model,
+    discretisation: impl Into<Discretisation>,
     pred: &PredictionOptions,
     sopts: &SweepOptions,
     hopts: &HbmOptions,
     aopts: &AdaptiveOptions,
 ) -> Result<AdaptiveSweep> {
-    adaptive_sweep_with_progress(model, pred, sopts, hopts, aopts, &mut |_, _| ControlFlow::Continue(()))
+    adaptive_sweep_with_progress(model, discretisation, pred, sopts, hopts, aopts, &mut |_, _| ControlFlow::Continue(()))
 }
 
 /// [`adaptive_sweep`] reporting progress: `on_point(pass, point)` is called after each
@@ -241,6 +242,7 @@ pub fn adaptive_sweep(
 /// As [`adaptive_sweep`].
 pub fn adaptive_sweep_with_progress(
     model: &Model,
+    discretisation: impl Into<Discretisation>,
     pred: &PredictionOptions,
     sopts: &SweepOptions,
     hopts: &HbmOptions,
@@ -248,11 +250,11 @@ pub fn adaptive_sweep_with_progress(
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
     check_options(aopts)?;
-    let coords = ContactCoordinates::new(model, hopts.harmonics)?;
-    let checkable = checkable(&coords, hopts);
-    let condensed = if aopts.kind == RomKind::Nlr || (aopts.verify && checkable) { Some(CondensedSystem::new(model, hopts)?) } else { None };
-    let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
-    let initial = predict_basis(&coords, &plan, pred)?;
+    let discretisation = discretisation.into();
+    let coords = ContactCoordinates::new(model, discretisation)?;
+    let checkable = checkable(&coords);
+    let condensed = if aopts.kind == RomKind::Nlr || (aopts.verify && checkable) { Some(CondensedSystem::new(model, discretisation)?) } else { None };
+    let initial = predict_basis(&coords, pred)?;
     adaptive_sweep_from(&coords, condensed.as_ref(), initial, pred, sopts, hopts, aopts, on_point)
 }
 
@@ -280,9 +282,8 @@ pub fn adaptive_sweep_from(
     if aopts.kind == RomKind::Nlr && condensed.is_none() {
         return Err(JpError::invalid("adaptive sweep", "NLR needs the condensed full-order system"));
     }
-    let checkable = checkable(coords, hopts);
+    let checkable = checkable(coords);
     let check_with = if aopts.verify && checkable { condensed } else { None };
-    let plan = AftPlan::new(hopts.harmonics, hopts.nt())?;
     let mut popts = pred.clone();
     let (mut basis, mut prediction) = initial;
     let mut rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
@@ -290,14 +291,14 @@ pub fn adaptive_sweep_from(
     // A basis too poor to converge at the first frequency has no reduced solution to
     // regenerate from: enlarge gamma (uniting as below) while corrections remain.
     let mut pass = loop {
-        match run_pass(rom.as_ref(), check_with, sopts, hopts, &plan, (corrections.len(), aopts.response_output), on_point) {
+        match run_pass(rom.as_ref(), check_with, sopts, hopts, (corrections.len(), aopts.response_output), on_point) {
             Ok(p) => break p,
             Err(e @ JpError::NoConvergence { .. }) => {
                 if corrections.len() >= aopts.max_corrections || popts.gamma >= aopts.max_gamma {
                     return Err(e);
                 }
                 popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
-                let (fresh, r) = predict_basis(coords, &plan, &popts)?;
+                let (fresh, r) = predict_basis(coords, &popts)?;
                 basis = basis.union(&fresh, popts.gamma)?;
                 prediction = r;
                 rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
@@ -344,10 +345,10 @@ pub fn adaptive_sweep_from(
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
-        let (fresh, r) = predict_basis(coords, &plan, &popts)?;
+        let (fresh, r) = predict_basis(coords, &popts)?;
         let b = basis.union(&fresh, popts.gamma)?;
         let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
-        let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, &plan, (corrections.len() + 1, aopts.response_output), on_point)?;
+        let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
         // Regenerate again only if it helped; otherwise grow gamma next.
         regenerate_next = new_pass.worst < 0.5 * before && popts.gamma < aopts.max_gamma;

@@ -72,7 +72,11 @@ pub fn full_order_contact_displacement(fo: &PointSolution, n_w: usize) -> Result
 ///
 /// # Errors
 /// A failed external law's error ([`JpError::Callback`]), never its NaN.
-pub fn contact_forces(rom: &dyn ReducedModel, plan: &AftPlan, w: &[f64], want_cycles: bool) -> Result<ContactForces> {
+pub fn contact_forces(rom: &dyn ReducedModel, w: &[f64], want_cycles: bool) -> Result<ContactForces> {
+    contact_forces_with(rom, &rom.discretisation().plan()?, w, want_cycles)
+}
+
+fn contact_forces_with(rom: &dyn ReducedModel, plan: &AftPlan, w: &[f64], want_cycles: bool) -> Result<ContactForces> {
     let mut out = ContactForces::default();
     evaluate_contacts(plan, rom.contact_laws(), rom.contact_offsets(), rom.n_contact_coords(), w, false, want_cycles, &mut out);
     out.check()?;
@@ -99,15 +103,12 @@ fn split(w: &[f64], n_w: usize, n_coeffs: usize) -> Vec<Vec<f64>> {
 /// infinity.
 ///
 /// # Errors
-/// Size errors from the model; a plan whose `H` differs from the model's.
-pub fn predicted_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+/// Size errors from the model.
+pub fn predicted_error(rom: &dyn ReducedModel, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
     let hh = rom.layout().harmonics;
-    if plan.harmonics() != hh {
-        return Err(JpError::invalid("AFT plan", format!("H = {}, model H = {hh}", plan.harmonics())));
-    }
     let nw = rom.n_contact_coords();
     let w = reduced_contact_displacement(rom, omega, z)?;
-    let forces = contact_forces(rom, plan, &w, false)?;
+    let forces = contact_forces(rom, &w, false)?;
     let f_rom = split(&forces.force, nw, 2 * hh + 1);
     let mut defect = rom.implied_contact_force(omega, z)?;
     // Contact rows only (see the module doc).
@@ -138,15 +139,16 @@ fn ratio(num: f64, den: f64) -> f64 {
 /// [`crate::condensation::CondensedSystem`] of the same model and `H`).
 ///
 /// # Errors
-/// Size errors; a plan whose `H` differs.
-pub fn actual_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64], fo: &PointSolution) -> Result<Vec<f64>> {
+/// Size errors; a full-order solution whose `H` differs.
+pub fn actual_error(rom: &dyn ReducedModel, omega: f64, z: &[f64], fo: &PointSolution) -> Result<Vec<f64>> {
     let hh = rom.layout().harmonics;
-    if fo.layout.harmonics != hh || plan.harmonics() != hh {
+    let plan = &rom.discretisation().plan()?;
+    if fo.layout.harmonics != hh {
         return Err(JpError::invalid("full-order solution", format!("H = {}, model H = {hh}", fo.layout.harmonics)));
     }
     let nw = rom.n_contact_coords();
-    let f_rom = split(&contact_forces(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false)?.force, nw, 2 * hh + 1);
-    let f_fo = split(&contact_forces(rom, plan, &full_order_contact_displacement(fo, nw)?, false)?.force, nw, 2 * hh + 1);
+    let f_rom = split(&contact_forces_with(rom, plan, &reduced_contact_displacement(rom, omega, z)?, false)?.force, nw, 2 * hh + 1);
+    let f_fo = split(&contact_forces_with(rom, plan, &full_order_contact_displacement(fo, nw)?, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_rom.iter().zip(&f_fo).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }
@@ -158,24 +160,25 @@ pub fn actual_error(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64
 /// order, without a full-order solution.
 ///
 /// # Errors
-/// Size errors; a plan or system whose `H` differs; [`JpError::SingularMatrix`] if `J` is
-/// singular at this point.
-pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, plan: &AftPlan, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+/// Size errors; a system whose `H` differs; [`JpError::SingularMatrix`] if `J` is singular at
+/// this point.
+pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
     let hh = rom.layout().harmonics;
     let nw = rom.n_contact_coords();
-    if condensed.layout().harmonics != hh || plan.harmonics() != hh || condensed.n_contact_coords() != nw {
+    if condensed.layout().harmonics != hh || condensed.n_contact_coords() != nw {
         return Err(JpError::invalid("condensed system", format!("H = {}, n_w = {}; the reduced model has H = {hh}, n_w = {nw}", condensed.layout().harmonics, condensed.n_contact_coords())));
     }
     let w = reduced_contact_displacement(rom, omega, z)?;
     let lin = condensed.linear_part(omega)?;
+    let plan = &condensed.discretisation().plan()?;
     let mut ws = ResidualWorkspace::new();
     let (r, jac) = evaluate(condensed, &lin, Some(plan), &w, true, &mut ws)?;
     let jac = jac.expect("jacobian requested").into_dense();
     let lu = crate::linalg::lu_checked(&jac, &format!("condensed full-order Jacobian at omega = {omega} (linearised error)"))?;
     let dw = crate::linalg::lu_solve(&lu, &r);
     let corrected: Vec<f64> = w.iter().zip(&dw).map(|(a, d)| a - d).collect();
-    let f_rom = split(&contact_forces(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
-    let f_new = split(&contact_forces(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
+    let f_rom = split(&contact_forces_with(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
+    let f_new = split(&contact_forces_with(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
 }
@@ -197,7 +200,7 @@ pub fn output_error(rom_outputs: &[f64], fo_outputs: &[f64], n_outputs: usize, h
 }
 
 /// Per-contact cycle reports (states, dissipated energy) of a reduced solution.
-pub fn reduced_contact_cycles(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64]) -> Result<Vec<ContactCycle>> {
+pub fn reduced_contact_cycles(rom: &dyn ReducedModel, omega: f64, z: &[f64]) -> Result<Vec<ContactCycle>> {
     let w = reduced_contact_displacement(rom, omega, z)?;
-    Ok(contact_forces(rom, plan, &w, true)?.cycles)
+    Ok(contact_forces(rom, &w, true)?.cycles)
 }

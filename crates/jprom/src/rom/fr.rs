@@ -55,6 +55,8 @@ pub struct FrRom {
     full: (Mat<f64>, Mat<f64>, Mat<f64>),
     /// Structural loss factor `eta` (acts on `K`).
     loss_factor: f64,
+    /// AFT samples, the coordinates' (`coords.discretisation`).
+    nt: usize,
 }
 
 impl FrRom {
@@ -137,6 +139,7 @@ impl FrRom {
             basis: basis.clone(),
             full: (coords.stiffness.clone(), coords.mass.clone(), coords.damping.clone()),
             loss_factor: coords.loss_factor,
+            nt: coords.discretisation.nt(),
         })
     }
 
@@ -240,7 +243,7 @@ impl HarmonicSystem for FrRom {
         &self.layout
     }
     fn contacts(&self) -> Contacts<'_> {
-        Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w }
+        Contacts { laws: &self.laws, offsets: &self.offsets, n_w: self.n_w, nt: self.nt }
     }
     fn contact_map(&self, h: usize) -> ContactMap<'_> {
         ContactMap::Dense(self.parts[h].w.as_ref())

@@ -16,7 +16,6 @@ pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
 pub use record::SweepRecord;
 
-use crate::aft::AftPlan;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
 use crate::hbm::{sweep, HarmonicSystem, HbmOptions, PointSolution, SweepOptions, SweepResult};
@@ -62,8 +61,7 @@ pub fn sweep_with_predicted_error(
     on_point: &mut dyn FnMut(&PointSolution) -> ControlFlow<()>,
 ) -> Result<(SweepResult, Vec<Vec<f64>>)> {
     let result = sweep(rom, sopts, hopts, on_point)?;
-    let plan = AftPlan::new(rom.layout().harmonics, hopts.nt())?;
-    let errors = result.points.iter().map(|p| error_metric::predicted_error(rom, &plan, p.omega, &p.z)).collect::<Result<Vec<_>>>()?;
+    let errors = result.points.iter().map(|p| error_metric::predicted_error(rom, p.omega, &p.z)).collect::<Result<Vec<_>>>()?;
     Ok((result, errors))
 }
 
