@@ -30,7 +30,7 @@ inline void check(jprom_status s, const char *what) {
 
 // unique_ptr deleters calling the matching *_free (which accepts NULL).
 struct ModelFree { void operator()(jprom_model *p) const { jprom_model_free(p); } };
-struct SweepFree { void operator()(jprom_sweep_result *p) const { jprom_sweep_free(p); } };
+struct SweepFree { void operator()(jprom_sweep_result *p) const { jprom_sweep_result_free(p); } };
 struct BasisFree { void operator()(jprom_basis *p) const { jprom_basis_free(p); } };
 
 // A JP basis: sizes n_h, h = 0..H.
@@ -55,28 +55,28 @@ class Sweep {
     explicit Sweep(jprom_sweep_result *p) : p_(p) {}
     size_t size() const {
         size_t n = 0;
-        check(jprom_sweep_n_points(p_.get(), &n), "jprom_sweep_n_points");
+        check(jprom_sweep_result_n_points(p_.get(), &n), "jprom_sweep_result_n_points");
         return n;
     }
     double omega(size_t i) const {
         double w = 0;
-        check(jprom_sweep_point_omega(p_.get(), i, &w), "jprom_sweep_point_omega");
+        check(jprom_sweep_result_point_omega(p_.get(), i, &w), "jprom_sweep_result_point_omega");
         return w;
     }
     double amplitude(size_t i, size_t h, size_t output) const {
         double a = 0;
-        check(jprom_sweep_point_amplitude(p_.get(), i, h, output, &a), "jprom_sweep_point_amplitude");
+        check(jprom_sweep_result_point_amplitude(p_.get(), i, h, output, &a), "jprom_sweep_result_point_amplitude");
         return a;
     }
     // Error predictor e*_h of a reduced sweep's point.
     double predicted_error(size_t i, size_t h) const {
         double e = 0;
-        check(jprom_sweep_point_predicted_error(p_.get(), i, h, &e), "jprom_sweep_point_predicted_error");
+        check(jprom_sweep_result_point_predicted_error(p_.get(), i, h, &e), "jprom_sweep_result_point_predicted_error");
         return e;
     }
     size_t corrections() const {
         size_t n = 0;
-        check(jprom_sweep_n_corrections(p_.get(), &n), "jprom_sweep_n_corrections");
+        check(jprom_sweep_result_n_corrections(p_.get(), &n), "jprom_sweep_result_n_corrections");
         return n;
     }
 

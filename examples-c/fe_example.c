@@ -100,9 +100,9 @@ int main(int argc, char **argv) {
 
     size_t n = 0, n_corr = 0;
     jprom_sweep_end end;
-    TRY(jprom_sweep_n_points(sweep, &n));
-    TRY(jprom_sweep_n_corrections(sweep, &n_corr));
-    TRY(jprom_sweep_end_reason(sweep, &end));
+    TRY(jprom_sweep_result_n_points(sweep, &n));
+    TRY(jprom_sweep_result_n_corrections(sweep, &n_corr));
+    TRY(jprom_sweep_result_end_reason(sweep, &end));
     printf("# %s: %zu DoFs, %zu tip contacts, reduced to %zu DoFs\n", deck, n_dof, n_tip, n_red);
     printf("# first modes, contacts open: %.6g %.6g %.6g Hz; stuck: %.6g %.6g %.6g Hz (modal force %.3g %.3g %.3g)\n",
            free_hz[0], free_hz[1], free_hz[2], stuck_hz[0], stuck_hz[1], stuck_hz[2], modal_force[0], modal_force[1], modal_force[2]);
@@ -110,12 +110,12 @@ int main(int argc, char **argv) {
     printf("# omega_rad_s X1_out0_y e*_1\n");
     for (size_t i = 0; i < n; ++i) {
         double w, x1, e1;
-        TRY(jprom_sweep_point_omega(sweep, i, &w));
-        TRY(jprom_sweep_point_amplitude(sweep, i, 1, 0, &x1));
-        TRY(jprom_sweep_point_predicted_error(sweep, i, 1, &e1));
+        TRY(jprom_sweep_result_point_omega(sweep, i, &w));
+        TRY(jprom_sweep_result_point_amplitude(sweep, i, 1, 0, &x1));
+        TRY(jprom_sweep_result_point_predicted_error(sweep, i, 1, &e1));
         printf("%.17e %.17e %.17e\n", w, x1, e1);
     }
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     jprom_model_free(model);
     return end == JPROM_SWEEP_REACHED_END ? 0 : 1;
 }

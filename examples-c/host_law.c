@@ -77,8 +77,8 @@ int main(void) {
     if (check(jprom_sweep(built_in, &opts, &sweep_opts, NULL, NULL, &sweep), "jprom_sweep")) return 1;
     size_t n_points = 0;
     jprom_sweep_end end;
-    jprom_sweep_n_points(sweep, &n_points);
-    jprom_sweep_end_reason(sweep, &end);
+    jprom_sweep_result_n_points(sweep, &n_points);
+    jprom_sweep_result_end_reason(sweep, &end);
     printf("# NLvib example 02, H = 7: %zu points, %s\n", n_points, jprom_sweep_end_name((int)end));
     printf("# index omega X1_q1_built_in X1_q1_host_law\n");
     /* the host-law model is solved at each point's frequency from the built-in sweep's
@@ -91,9 +91,9 @@ int main(void) {
         jprom_solution *guess = NULL, *sol = NULL;
         double omega, a, b;
         size_t it = 0;
-        bad = (i > 0 && check(jprom_sweep_point(sweep, i - 1, &guess), "jprom_sweep_point"))
-           || check(jprom_sweep_point_omega(sweep, i, &omega), "omega")
-           || check(jprom_sweep_point_amplitude(sweep, i, 1, 0, &a), "amplitude")
+        bad = (i > 0 && check(jprom_sweep_result_point(sweep, i - 1, &guess), "jprom_sweep_result_point"))
+           || check(jprom_sweep_result_point_omega(sweep, i, &omega), "omega")
+           || check(jprom_sweep_result_point_amplitude(sweep, i, 1, 0, &a), "amplitude")
            || check(jprom_solve_point_from(host, omega, &opts, guess, &sol), "jprom_solve_point_from")
            || check(jprom_solution_amplitude(sol, 1, 0, &b), "amplitude")
            || check(jprom_solution_convergence(sol, &it, NULL), "convergence");
@@ -105,8 +105,8 @@ int main(void) {
              * not compared */
             double before = 0.0, after = 0.0;
             if (i > 0 && i + 1 < n_points) {
-                jprom_sweep_point_omega(sweep, i - 1, &before);
-                jprom_sweep_point_omega(sweep, i + 1, &after);
+                jprom_sweep_result_point_omega(sweep, i - 1, &before);
+                jprom_sweep_result_point_omega(sweep, i + 1, &after);
             }
             if ((omega - before) * (after - omega) < 0.0)
                 folds += 1;
@@ -118,7 +118,7 @@ int main(void) {
     }
     printf("# host-law solves: %zu Newton iterations in all\n", iterations);
     printf("# host law vs built-in spring: largest relative difference of |X1| %.2e (%zu fold points not compared)\n", worst, folds);
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     jprom_model_free(built_in);
     jprom_model_free(host);
     return bad || worst > 1e-8 || end != JPROM_SWEEP_REACHED_END;

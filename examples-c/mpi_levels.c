@@ -76,15 +76,15 @@ static int build_model(jprom_model **out, int rank) {
  * sweep the largest e*_1. */
 static int sweep_peak(const jprom_sweep_result *s, int reduced, double *n_points, double *omega_peak, double *x1_peak, double *e_max, int rank) {
     size_t n = 0;
-    if (check(jprom_sweep_n_points(s, &n), "jprom_sweep_n_points", rank)) return 1;
+    if (check(jprom_sweep_result_n_points(s, &n), "jprom_sweep_result_n_points", rank)) return 1;
     *n_points = (double)n;
     *omega_peak = 0.0;
     *x1_peak = 0.0;
     *e_max = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double omega, x1, e1 = 0.0;
-        if (check(jprom_sweep_point_omega(s, i, &omega), "omega", rank) || check(jprom_sweep_point_amplitude(s, i, 1, 0, &x1), "amplitude", rank)) return 1;
-        if (reduced && check(jprom_sweep_point_predicted_error(s, i, 1, &e1), "predicted error", rank)) return 1;
+        if (check(jprom_sweep_result_point_omega(s, i, &omega), "omega", rank) || check(jprom_sweep_result_point_amplitude(s, i, 1, 0, &x1), "amplitude", rank)) return 1;
+        if (reduced && check(jprom_sweep_result_point_predicted_error(s, i, 1, &e1), "predicted error", rank)) return 1;
         if (x1 > *x1_peak) {
             *x1_peak = x1;
             *omega_peak = omega;
@@ -112,8 +112,8 @@ static int run_level(jprom_model *model, const jprom_basis *basis, int level, do
            || sweep_peak(fo, 0, &row[2], &row[3], &row[4], &unused, rank)
            || check(jprom_rom_sweep(model, basis, JPROM_ROM_NLR, &opts, &sweep_opts, NULL, NULL, &rom), "jprom_rom_sweep", rank)
            || sweep_peak(rom, 1, &row[5], &unused, &row[6], &row[7], rank);
-    jprom_sweep_free(fo);
-    jprom_sweep_free(rom);
+    jprom_sweep_result_free(fo);
+    jprom_sweep_result_free(rom);
     return bad;
 }
 

@@ -76,20 +76,20 @@ int main(void) {
         return 1;
     }
     size_t n_points = 0;
-    jprom_sweep_n_points(sweep, &n_points);
+    jprom_sweep_result_n_points(sweep, &n_points);
     printf("# jprom %s, %zu points (%zu reported by the callback)\n", jprom_version(), n_points, seen);
     printf("# index omega_rad_s X1_node0_x X1_node1_x\n");
     for (size_t i = 0; i < n_points; ++i) {
         double omega, a0, a1;
-        if (check(jprom_sweep_point_omega(sweep, i, &omega), "omega")
-            || check(jprom_sweep_point_amplitude(sweep, i, 1, 0, &a0), "amplitude")
-            || check(jprom_sweep_point_amplitude(sweep, i, 1, 1, &a1), "amplitude")) {
+        if (check(jprom_sweep_result_point_omega(sweep, i, &omega), "omega")
+            || check(jprom_sweep_result_point_amplitude(sweep, i, 1, 0, &a0), "amplitude")
+            || check(jprom_sweep_result_point_amplitude(sweep, i, 1, 1, &a1), "amplitude")) {
             bad = 1;
             break;
         }
         printf("%zu %.10e %.10e %.10e\n", i, omega, a0, a1);
     }
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     if (bad) {
         jprom_model_free(model);
         return bad;
@@ -123,23 +123,23 @@ int main(void) {
         return 1;
     }
     size_t n_corrections = 0;
-    jprom_sweep_n_points(rom, &n_points);
-    jprom_sweep_n_corrections(rom, &n_corrections);
+    jprom_sweep_result_n_points(rom, &n_points);
+    jprom_sweep_result_n_corrections(rom, &n_corrections);
     jprom_basis_sizes(final_basis, sizes, 8, &harmonics);
     printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", n_points, n_corrections, sizes[1]);
     printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
     for (size_t i = 0; i < n_points; ++i) {
         double omega, a0, a1, e1;
-        if (check(jprom_sweep_point_omega(rom, i, &omega), "omega")
-            || check(jprom_sweep_point_amplitude(rom, i, 1, 0, &a0), "amplitude")
-            || check(jprom_sweep_point_amplitude(rom, i, 1, 1, &a1), "amplitude")
-            || check(jprom_sweep_point_predicted_error(rom, i, 1, &e1), "predicted error")) {
+        if (check(jprom_sweep_result_point_omega(rom, i, &omega), "omega")
+            || check(jprom_sweep_result_point_amplitude(rom, i, 1, 0, &a0), "amplitude")
+            || check(jprom_sweep_result_point_amplitude(rom, i, 1, 1, &a1), "amplitude")
+            || check(jprom_sweep_result_point_predicted_error(rom, i, 1, &e1), "predicted error")) {
             bad = 1;
             break;
         }
         printf("%zu %.10e %.10e %.10e %.10e\n", i, omega, a0, a1, e1);
     }
-    jprom_sweep_free(rom);
+    jprom_sweep_result_free(rom);
     jprom_basis_free(final_basis);
     jprom_model_free(model);
     return bad;

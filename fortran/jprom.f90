@@ -353,15 +353,32 @@ module jprom_c
       import :: c_int, c_ptr
       type(c_ptr), value :: solution
     end function
+    integer(c_int) function jprom_sweep_result_free(sweep) bind(C, name="jprom_sweep_result_free")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+    end function
+    !> Deprecated: use jprom_sweep_result_free.
     integer(c_int) function jprom_sweep_free(sweep) bind(C, name="jprom_sweep_free")
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
     end function
+    integer(c_int) function jprom_sweep_result_n_points(sweep, out) bind(C, name="jprom_sweep_result_n_points")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_n_points.
     integer(c_int) function jprom_sweep_n_points(sweep, out) bind(C, name="jprom_sweep_n_points")
       import :: c_int, c_size_t, c_ptr
       type(c_ptr), value :: sweep
       integer(c_size_t), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_end_reason(sweep, out) bind(C, name="jprom_sweep_result_end_reason")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_int), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_end_reason.
     integer(c_int) function jprom_sweep_end_reason(sweep, out) bind(C, name="jprom_sweep_end_reason")
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
@@ -372,13 +389,27 @@ module jprom_c
       type(c_ptr) :: str
       integer(c_int), value :: reason
     end function
-    !> Fortran names ignore case: JPROM_SWEEP_REACHED_END is the constant, so the C function
-    !> jprom_sweep_reached_end is jprom_sweep_reached_end_fn here.
+    integer(c_int) function jprom_sweep_result_reached_end(sweep, out) bind(C, name="jprom_sweep_result_reached_end")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_int), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_reached_end (jprom_sweep_reached_end is jprom_sweep_reached_end_fn here:
+    !> Fortran names ignore case, and JPROM_SWEEP_REACHED_END is the end reason).
     integer(c_int) function jprom_sweep_reached_end_fn(sweep, out) bind(C, name="jprom_sweep_reached_end")
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
       integer(c_int), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_failure_copy(sweep, buf, len, written) &
+        bind(C, name="jprom_sweep_result_failure_copy")
+      import :: c_int, c_size_t, c_ptr, c_char
+      type(c_ptr), value :: sweep
+      character(kind=c_char), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: written
+    end function
+    !> Deprecated: use jprom_sweep_result_failure_copy.
     integer(c_int) function jprom_sweep_failure_copy(sweep, buf, len, written) bind(C, name="jprom_sweep_failure_copy")
       import :: c_int, c_size_t, c_ptr, c_char
       type(c_ptr), value :: sweep
@@ -386,24 +417,54 @@ module jprom_c
       integer(c_size_t), value :: len
       integer(c_size_t), intent(out) :: written
     end function
+    integer(c_int) function jprom_sweep_result_point(sweep, i, out) bind(C, name="jprom_sweep_result_point")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      type(c_ptr), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_point.
     integer(c_int) function jprom_sweep_point(sweep, i, out) bind(C, name="jprom_sweep_point")
       import :: c_int, c_size_t, c_ptr
       type(c_ptr), value :: sweep
       integer(c_size_t), value :: i
       type(c_ptr), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_point_omega(sweep, i, out) bind(C, name="jprom_sweep_result_point_omega")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      real(c_double), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_point_omega.
     integer(c_int) function jprom_sweep_point_omega(sweep, i, out) bind(C, name="jprom_sweep_point_omega")
       import :: c_int, c_size_t, c_double, c_ptr
       type(c_ptr), value :: sweep
       integer(c_size_t), value :: i
       real(c_double), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_point_amplitude(sweep, i, h, j, out) &
+        bind(C, name="jprom_sweep_result_point_amplitude")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, h, j
+      real(c_double), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_point_amplitude.
     integer(c_int) function jprom_sweep_point_amplitude(sweep, i, h, j, out) bind(C, name="jprom_sweep_point_amplitude")
       import :: c_int, c_size_t, c_double, c_ptr
       type(c_ptr), value :: sweep
       integer(c_size_t), value :: i, h, j
       real(c_double), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_point_output_coeffs(sweep, i, buf, len) &
+        bind(C, name="jprom_sweep_result_point_output_coeffs")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, len
+      real(c_double), dimension(*), intent(out) :: buf
+    end function
+    !> Deprecated: use jprom_sweep_result_point_output_coeffs.
     integer(c_int) function jprom_sweep_point_output_coeffs(sweep, i, buf, len) &
         bind(C, name="jprom_sweep_point_output_coeffs")
       import :: c_int, c_size_t, c_double, c_ptr
@@ -411,6 +472,14 @@ module jprom_c
       integer(c_size_t), value :: i, len
       real(c_double), dimension(*), intent(out) :: buf
     end function
+    integer(c_int) function jprom_sweep_result_point_dissipated_energy(sweep, i, buf, len) &
+        bind(C, name="jprom_sweep_result_point_dissipated_energy")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, len
+      real(c_double), dimension(*), intent(out) :: buf
+    end function
+    !> Deprecated: use jprom_sweep_result_point_dissipated_energy.
     integer(c_int) function jprom_sweep_point_dissipated_energy(sweep, i, buf, len) &
         bind(C, name="jprom_sweep_point_dissipated_energy")
       import :: c_int, c_size_t, c_double, c_ptr
@@ -418,6 +487,15 @@ module jprom_c
       integer(c_size_t), value :: i, len
       real(c_double), dimension(*), intent(out) :: buf
     end function
+    integer(c_int) function jprom_sweep_result_point_convergence(sweep, i, iterations, residual) &
+        bind(C, name="jprom_sweep_result_point_convergence")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      integer(c_size_t), intent(out) :: iterations
+      real(c_double), intent(out) :: residual
+    end function
+    !> Deprecated: use jprom_sweep_result_point_convergence.
     integer(c_int) function jprom_sweep_point_convergence(sweep, i, iterations, residual) &
         bind(C, name="jprom_sweep_point_convergence")
       import :: c_int, c_size_t, c_double, c_ptr
@@ -426,11 +504,23 @@ module jprom_c
       integer(c_size_t), intent(out) :: iterations
       real(c_double), intent(out) :: residual
     end function
+    integer(c_int) function jprom_sweep_result_save_json(sweep, path) bind(C, name="jprom_sweep_result_save_json")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: sweep
+      character(kind=c_char), dimension(*), intent(in) :: path
+    end function
+    !> Deprecated: use jprom_sweep_result_save_json.
     integer(c_int) function jprom_sweep_save_json(sweep, path) bind(C, name="jprom_sweep_save_json")
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: sweep
       character(kind=c_char), dimension(*), intent(in) :: path
     end function
+    integer(c_int) function jprom_sweep_result_load_json(path, out) bind(C, name="jprom_sweep_result_load_json")
+      import :: c_int, c_ptr, c_char
+      character(kind=c_char), dimension(*), intent(in) :: path
+      type(c_ptr), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_load_json.
     integer(c_int) function jprom_sweep_load_json(path, out) bind(C, name="jprom_sweep_load_json")
       import :: c_int, c_ptr, c_char
       character(kind=c_char), dimension(*), intent(in) :: path
@@ -569,6 +659,14 @@ module jprom_c
       type(c_ptr), value :: user_data
       type(c_ptr), intent(out) :: out, basis_out
     end function
+    integer(c_int) function jprom_sweep_result_point_predicted_error(sweep, i, h, out) &
+        bind(C, name="jprom_sweep_result_point_predicted_error")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, h
+      real(c_double), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_point_predicted_error.
     integer(c_int) function jprom_sweep_point_predicted_error(sweep, i, h, out) &
         bind(C, name="jprom_sweep_point_predicted_error")
       import :: c_int, c_size_t, c_double, c_ptr
@@ -576,11 +674,27 @@ module jprom_c
       integer(c_size_t), value :: i, h
       real(c_double), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_n_corrections(sweep, out) bind(C, name="jprom_sweep_result_n_corrections")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    !> Deprecated: use jprom_sweep_result_n_corrections.
     integer(c_int) function jprom_sweep_n_corrections(sweep, out) bind(C, name="jprom_sweep_n_corrections")
       import :: c_int, c_size_t, c_ptr
       type(c_ptr), value :: sweep
       integer(c_size_t), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_correction(sweep, i, kind, value, worst_before, worst_after, sizes, len) &
+        bind(C, name="jprom_sweep_result_correction")
+      import :: c_int, c_size_t, c_double, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i, len
+      integer(c_int), intent(out) :: kind
+      real(c_double), intent(out) :: value, worst_before, worst_after
+      integer(c_size_t), dimension(*), intent(out) :: sizes
+    end function
+    !> Deprecated: use jprom_sweep_result_correction.
     integer(c_int) function jprom_sweep_correction(sweep, i, kind, value, worst_before, worst_after, sizes, len) &
         bind(C, name="jprom_sweep_correction")
       import :: c_int, c_size_t, c_double, c_ptr
@@ -1474,25 +1588,25 @@ contains
   end function
 
   integer function jp_sweep_free(sweep)
-    use jprom_c, only: jprom_sweep_free
+    use jprom_c, only: jprom_sweep_result_free
     type(c_ptr), intent(inout) :: sweep
-    jp_sweep_free = int(jprom_sweep_free(sweep))
+    jp_sweep_free = int(jprom_sweep_result_free(sweep))
     sweep = c_null_ptr
   end function
 
   integer function jp_sweep_n_points(sweep, n)
-    use jprom_c, only: jprom_sweep_n_points
+    use jprom_c, only: jprom_sweep_result_n_points
     type(c_ptr), intent(in) :: sweep
     integer, intent(out) :: n
     integer(c_size_t) :: m
-    jp_sweep_n_points = int(jprom_sweep_n_points(sweep, m))
+    jp_sweep_n_points = int(jprom_sweep_result_n_points(sweep, m))
     if (jp_sweep_n_points == JPROM_OK) n = int(m)
   end function
 
   !> Why the sweep ended (JPROM_SWEEP_REACHED_END, _STALLED, _POINT_CAP, _LEFT_BAND, _CANCELLED)
   !> and, unless it reached the end, where and why in words (truncated to len(why)).
   integer function jp_sweep_end(sweep, reason, why)
-    use jprom_c, only: jprom_sweep_end_reason, jprom_sweep_failure_copy
+    use jprom_c, only: jprom_sweep_result_end_reason, jprom_sweep_result_failure_copy
     type(c_ptr), intent(in) :: sweep
     integer, intent(out) :: reason
     character(len=*), intent(out) :: why
@@ -1501,11 +1615,11 @@ contains
     integer(c_int) :: r
     integer :: k
     why = ''
-    jp_sweep_end = int(jprom_sweep_end_reason(sweep, r))
+    jp_sweep_end = int(jprom_sweep_result_end_reason(sweep, r))
     if (jp_sweep_end /= JPROM_OK) return
     reason = int(r)
     ! a truncated copy is still a good prefix (the status then says JPROM_BAD_SIZE)
-    k = int(jprom_sweep_failure_copy(sweep, buf, int(size(buf), c_size_t), written))
+    k = int(jprom_sweep_result_failure_copy(sweep, buf, int(size(buf), c_size_t), written))
     do k = 1, min(len(why), int(written))
       why(k:k) = buf(k)
     end do
@@ -1521,26 +1635,26 @@ contains
 
   !> Whether the sweep covered the whole band.
   integer function jp_sweep_reached_end(sweep, reached)
-    use jprom_c, only: jprom_sweep_reached_end_fn
+    use jprom_c, only: jprom_sweep_result_reached_end
     type(c_ptr), intent(in) :: sweep
     logical, intent(out) :: reached
     integer(c_int) :: r
-    jp_sweep_reached_end = int(jprom_sweep_reached_end_fn(sweep, r))
+    jp_sweep_reached_end = int(jprom_sweep_result_reached_end(sweep, r))
     if (jp_sweep_reached_end == JPROM_OK) reached = r /= 0
   end function
 
   !> Point i (1-based): angular frequency and first-harmonic amplitude at each output (1..size(amps)).
   integer function jp_sweep_point(sweep, i, omega, amps)
-    use jprom_c, only: jprom_sweep_point_omega, jprom_sweep_point_amplitude
+    use jprom_c, only: jprom_sweep_result_point_omega, jprom_sweep_result_point_amplitude
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i
     real(c_double), intent(out) :: omega, amps(:)
     integer :: j
     integer(c_int) :: s
-    s = jprom_sweep_point_omega(sweep, c_index(i), omega)
+    s = jprom_sweep_result_point_omega(sweep, c_index(i), omega)
     do j = 1, size(amps)
       if (s /= JPROM_OK) exit
-      s = jprom_sweep_point_amplitude(sweep, c_index(i), 1_c_size_t, c_index(j), amps(j))
+      s = jprom_sweep_result_point_amplitude(sweep, c_index(i), 1_c_size_t, c_index(j), amps(j))
     end do
     jp_sweep_point = int(s)
   end function
@@ -1549,65 +1663,65 @@ contains
   !> coefficient k (0 static, 2h-1 cos, 2h sin) at output j, so size(coeffs, 1) = n_outputs and
   !> size(coeffs, 2) = 2H + 1 (the C layout k * n_outputs + j read column-major, no copy).
   integer function jp_sweep_point_coeffs(sweep, i, coeffs, message)
-    use jprom_c, only: jprom_sweep_point_output_coeffs
+    use jprom_c, only: jprom_sweep_result_point_output_coeffs
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i
     real(c_double), contiguous, intent(inout) :: coeffs(:, :)
     character(len=*), intent(inout) :: message
-    jp_sweep_point_coeffs = finish(jprom_sweep_point_output_coeffs(sweep, c_index(i), coeffs, &
+    jp_sweep_point_coeffs = finish(jprom_sweep_result_point_output_coeffs(sweep, c_index(i), coeffs, &
                                                                    int(size(coeffs), c_size_t)), message)
   end function
 
   !> Point i (1-based): energy dissipated per cycle by each contact, energy(1:n_contacts).
   integer function jp_sweep_point_energy(sweep, i, energy, message)
-    use jprom_c, only: jprom_sweep_point_dissipated_energy
+    use jprom_c, only: jprom_sweep_result_point_dissipated_energy
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i
     real(c_double), intent(inout) :: energy(:)
     character(len=*), intent(out), optional :: message
     real(c_double) :: buf(size(energy))
     integer(c_int) :: s
-    s = jprom_sweep_point_dissipated_energy(sweep, c_index(i), buf, int(size(energy), c_size_t))
+    s = jprom_sweep_result_point_dissipated_energy(sweep, c_index(i), buf, int(size(energy), c_size_t))
     if (s == JPROM_OK) energy = buf
     jp_sweep_point_energy = finish(s, message)
   end function
 
   !> Point i (1-based): Newton iterations and final relative residual.
   integer function jp_sweep_point_convergence(sweep, i, iterations, residual)
-    use jprom_c, only: jprom_sweep_point_convergence
+    use jprom_c, only: jprom_sweep_result_point_convergence
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i
     integer, intent(out) :: iterations
     real(c_double), intent(out) :: residual
     integer(c_size_t) :: it
-    jp_sweep_point_convergence = int(jprom_sweep_point_convergence(sweep, c_index(i), it, residual))
+    jp_sweep_point_convergence = int(jprom_sweep_result_point_convergence(sweep, c_index(i), it, residual))
     if (jp_sweep_point_convergence == JPROM_OK) iterations = int(it)
   end function
 
   !> Point i (1-based) copied out as a solution handle (contact states, save; free it).
   integer function jp_sweep_solution(sweep, i, solution, message)
-    use jprom_c, only: jprom_sweep_point
+    use jprom_c, only: jprom_sweep_result_point
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i
     type(c_ptr), intent(out) :: solution
     character(len=*), intent(out), optional :: message
-    jp_sweep_solution = finish(jprom_sweep_point(sweep, c_index(i), solution), message)
+    jp_sweep_solution = finish(jprom_sweep_result_point(sweep, c_index(i), solution), message)
   end function
 
   integer function jp_sweep_save(sweep, path, message)
-    use jprom_c, only: jprom_sweep_save_json
+    use jprom_c, only: jprom_sweep_result_save_json
     type(c_ptr), intent(in) :: sweep
     character(len=*), intent(in) :: path
     character(len=*), intent(out), optional :: message
-    jp_sweep_save = finish(jprom_sweep_save_json(sweep, to_c(path)), message)
+    jp_sweep_save = finish(jprom_sweep_result_save_json(sweep, to_c(path)), message)
   end function
 
   integer function jp_sweep_load(path, sweep, message)
-    use jprom_c, only: jprom_sweep_load_json
+    use jprom_c, only: jprom_sweep_result_load_json
     character(len=*), intent(in) :: path
     type(c_ptr), intent(out) :: sweep
     character(len=*), intent(out), optional :: message
-    jp_sweep_load = finish(jprom_sweep_load_json(to_c(path), sweep), message)
+    jp_sweep_load = finish(jprom_sweep_result_load_json(to_c(path), sweep), message)
   end function
 
   ! ---- JP reduction ----
@@ -1705,19 +1819,19 @@ contains
 
   !> Error predictor e*_h of point i (1-based) of a reduced sweep.
   integer function jp_sweep_point_error(sweep, i, h, e)
-    use jprom_c, only: jprom_sweep_point_predicted_error
+    use jprom_c, only: jprom_sweep_result_point_predicted_error
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: i, h
     real(c_double), intent(out) :: e
-    jp_sweep_point_error = int(jprom_sweep_point_predicted_error(sweep, c_index(i), int(h, c_size_t), e))
+    jp_sweep_point_error = int(jprom_sweep_result_point_predicted_error(sweep, c_index(i), int(h, c_size_t), e))
   end function
 
   integer function jp_sweep_n_corrections(sweep, n)
-    use jprom_c, only: jprom_sweep_n_corrections
+    use jprom_c, only: jprom_sweep_result_n_corrections
     type(c_ptr), intent(in) :: sweep
     integer, intent(out) :: n
     integer(c_size_t) :: m
-    jp_sweep_n_corrections = int(jprom_sweep_n_corrections(sweep, m))
+    jp_sweep_n_corrections = int(jprom_sweep_result_n_corrections(sweep, m))
     if (jp_sweep_n_corrections == JPROM_OK) n = int(m)
   end function
 
@@ -1725,7 +1839,7 @@ contains
   !> (JPROM_CORRECTION_REGENERATED or _GAMMA_INCREASED), the omega it regenerated from or the
   !> new gamma, the worst e*_1 before and after it, and the basis sizes n_h after it, sizes(0:H).
   integer function jp_sweep_correction(sweep, k, kind, value, worst_before, worst_after, sizes, message)
-    use jprom_c, only: jprom_sweep_correction
+    use jprom_c, only: jprom_sweep_result_correction
     type(c_ptr), intent(in) :: sweep
     integer, intent(in) :: k
     integer, intent(out) :: kind
@@ -1734,7 +1848,7 @@ contains
     character(len=*), intent(out), optional :: message
     integer(c_size_t) :: buf(size(sizes))
     integer(c_int) :: s, kd
-    s = jprom_sweep_correction(sweep, c_index(k), kd, value, worst_before, worst_after, buf, int(size(sizes), c_size_t))
+    s = jprom_sweep_result_correction(sweep, c_index(k), kd, value, worst_before, worst_after, buf, int(size(sizes), c_size_t))
     if (s == JPROM_OK) then
       kind = int(kd)
       sizes = int(buf)

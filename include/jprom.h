@@ -8,7 +8,7 @@
  *    message describes the latest jprom call on the calling thread.
  *  - Results are returned through out-parameters, written only on JPROM_OK. A sweep that
  *    ends early (stalled, point cap, stopped by the callback) is a JPROM_OK result whose end
- *    reason (jprom_sweep_end_reason) says why.
+ *    reason (jprom_sweep_result_end_reason) says why.
  *  - Buffers: an array too small for the result is JPROM_BAD_SIZE and nothing is written.
  *    Text (jprom_*_copy) is copied like snprintf: NUL-terminated, truncated to fit, the full
  *    length in *written, JPROM_BAD_SIZE when truncated.
@@ -130,12 +130,12 @@ typedef enum {
   JPROM_CALLBACK_ERROR = 12,
 } jprom_status;
 
-// Why a sweep ended (`jprom_sweep_end_reason`). The values never change.
+// Why a sweep ended (`jprom_sweep_result_end_reason`). The values never change.
 typedef enum {
   // The branch reached `omega_end`.
   JPROM_SWEEP_REACHED_END = 0,
   // The corrector could not converge even at the smallest step (`min_step`), after any
-  // restarts: the text of `jprom_sweep_failure_copy` has where and the last residual.
+  // restarts: the text of `jprom_sweep_result_failure_copy` has where and the last residual.
   JPROM_SWEEP_STALLED = 1,
   // `max_points` points were computed before reaching `omega_end`.
   JPROM_SWEEP_POINT_CAP = 2,
@@ -155,7 +155,7 @@ typedef enum {
 } jprom_rom_kind;
 
 // The kind of a correction of `jprom_rom_sweep_adaptive`, written to the `int kind` of
-// `jprom_sweep_correction`.
+// `jprom_sweep_result_correction`.
 typedef enum {
   // Modes regenerated from the reduced solution at the point of worst `e*_1` (the value is
   // that point's omega, rad/s).
@@ -179,7 +179,7 @@ typedef struct jprom_model jprom_model;
 // One converged frequency point. Released with `jprom_solution_free`.
 typedef struct jprom_solution jprom_solution;
 
-// The points of a sweep. Released with `jprom_sweep_free`.
+// The points of a sweep. Released with `jprom_sweep_result_free`.
 typedef struct jprom_sweep_result jprom_sweep_result;
 
 // Settings of one harmonic-balance solve. Fill with `jprom_hbm_options_default`, then change
@@ -477,7 +477,7 @@ jprom_status jprom_basis_load_json(const char *path, jprom_basis **out);
 
 // Sweeps the reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) of `model` on `basis`,
 // like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
-// predictor `e*_h` at every point (`jprom_sweep_point_predicted_error`; above about 0.05
+// predictor `e*_h` at every point (`jprom_sweep_result_point_predicted_error`; above about 0.05
 // for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
 jprom_status jprom_rom_sweep(const jprom_model *model,
                              const jprom_basis *basis,
@@ -490,10 +490,10 @@ jprom_status jprom_rom_sweep(const jprom_model *model,
 
 // Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a
 // full-order sweep, which has none).
-jprom_status jprom_sweep_point_predicted_error(const jprom_sweep_result *sweep,
-                                               size_t index,
-                                               size_t h,
-                                               double *out);
+jprom_status jprom_sweep_result_point_predicted_error(const jprom_sweep_result *sweep,
+                                                      size_t index,
+                                                      size_t h,
+                                                      double *out);
 
 // Writes the defaults of version 1 of `jprom_jp_options` into `*out`. In `jprom.h` this name
 // is a macro for `jprom_jp_options_init(out, sizeof *out)`.
@@ -534,15 +534,15 @@ jprom_status jprom_basis_from_solution(const jprom_model *model,
 // reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
 // while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
 // unites the basis with modes regenerated from the worst reduced point (or predicted with a
-// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_n_corrections` /
-// `jprom_sweep_correction`, `e*` with `jprom_sweep_point_predicted_error`.
+// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_result_n_corrections` /
+// `jprom_sweep_result_correction`, `e*` with `jprom_sweep_result_point_predicted_error`.
 //
 // `callback` (may be NULL) is called after each converged point of each reduced sweep;
 // `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
 // that sweep stops, no further correction is made, and the call returns `JPROM_OK` with the
 // sweep so far (end reason `JPROM_SWEEP_CANCELLED`) and the basis, as `jprom_sweep`.
 //
-// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
+// On success `*out` receives the final sweep (free it with `jprom_sweep_result_free`) and, if
 // `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
 // On failure neither is written.
 jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
@@ -557,7 +557,7 @@ jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
 
 // Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 // other sweep, and when the first basis was good enough).
-jprom_status jprom_sweep_n_corrections(const jprom_sweep_result *sweep, size_t *out);
+jprom_status jprom_sweep_result_n_corrections(const jprom_sweep_result *sweep, size_t *out);
 
 // Correction `index` (in order, 0-based) of an adaptive sweep: its kind
 // (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
@@ -565,24 +565,24 @@ jprom_status jprom_sweep_n_corrections(const jprom_sweep_result *sweep, size_t *
 // it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
 // may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
 // of range, `JPROM_BAD_SIZE` if `len` is nonzero but below `H + 1`; nothing is written then.
-jprom_status jprom_sweep_correction(const jprom_sweep_result *sweep,
-                                    size_t index,
-                                    int *kind,
-                                    double *value,
-                                    double *worst_before,
-                                    double *worst_after,
-                                    size_t *sizes,
-                                    size_t len);
+jprom_status jprom_sweep_result_correction(const jprom_sweep_result *sweep,
+                                           size_t index,
+                                           int *kind,
+                                           double *value,
+                                           double *worst_before,
+                                           double *worst_after,
+                                           size_t *sizes,
+                                           size_t len);
 
 // The actual error `e_h`, `h = 0..H` (docs/formulation.md §10.1, paper (44)) of a reduced solution: the
 // contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
-// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
+// on `basis`, copied out with `jprom_sweep_result_point`) against those of `full_solution` (a
 // full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
 // reduced ones. `model`, `basis`, `kind` and `options` must be those of the reduced sweep
 // (they rebuild the reduced model; `JPROM_BAD_SIZE` if the basis does not match the
 // solution). `H + 1` values go to `buf` of capacity `len`. `JPROM_INVALID_VALUE` if the two
 // omegas differ (beyond 1e-9 relative), if `rom_solution` is full-order or `full_solution`
-// reduced. Compare with `jprom_sweep_point_predicted_error` (`e*`, which needs no full-order
+// reduced. Compare with `jprom_sweep_result_point_predicted_error` (`e*`, which needs no full-order
 // solution).
 jprom_status jprom_rom_actual_error(const jprom_model *model,
                                     const jprom_basis *basis,
@@ -591,6 +591,32 @@ jprom_status jprom_rom_actual_error(const jprom_model *model,
                                     const jprom_solution *rom_solution,
                                     const jprom_solution *full_solution,
                                     double *buf,
+                                    size_t len);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_predicted_error`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_predicted_error")
+jprom_status jprom_sweep_point_predicted_error(const jprom_sweep_result *sweep,
+                                               size_t index,
+                                               size_t h,
+                                               double *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_n_corrections`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_n_corrections")
+jprom_status jprom_sweep_n_corrections(const jprom_sweep_result *sweep,
+                                       size_t *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_correction`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_correction")
+jprom_status jprom_sweep_correction(const jprom_sweep_result *sweep,
+                                    size_t index,
+                                    int *kind,
+                                    double *value,
+                                    double *worst_before,
+                                    double *worst_after,
+                                    size_t *sizes,
                                     size_t len);
 
 // Sets the memory budget in bytes: the ceiling for what one request sized by the caller
@@ -889,8 +915,8 @@ jprom_status jprom_sweep_from(const jprom_model *model,
 // `callback` may be NULL. If it returns nonzero the sweep stops there: the call returns
 // `JPROM_OK` with the points computed so far and the end reason `JPROM_SWEEP_CANCELLED`.
 // If continuation fails before the end of the band, the call also returns `JPROM_OK` with the
-// points found; `jprom_sweep_reached_end` tells whether the band was covered, and
-// `jprom_sweep_failure_copy` why not. If not even the first point converges, the status is
+// points found; `jprom_sweep_result_reached_end` tells whether the band was covered, and
+// `jprom_sweep_result_failure_copy` why not. If not even the first point converges, the status is
 // that error and `*out` is not written.
 jprom_status jprom_sweep(const jprom_model *model,
                          const jprom_hbm_options *options,
@@ -903,65 +929,69 @@ jprom_status jprom_sweep(const jprom_model *model,
 jprom_status jprom_solution_free(jprom_solution *solution);
 
 // Releases a sweep (NULL is a no-op).
-jprom_status jprom_sweep_free(jprom_sweep_result *sweep);
+jprom_status jprom_sweep_result_free(jprom_sweep_result *sweep);
 
 // Number of converged points in a sweep.
-jprom_status jprom_sweep_n_points(const jprom_sweep_result *sweep, size_t *out);
+jprom_status jprom_sweep_result_n_points(const jprom_sweep_result *sweep, size_t *out);
 
 // Why the sweep ended (`JPROM_SWEEP_REACHED_END` if it covered the band); the words, with
-// where it stopped, come from `jprom_sweep_failure_copy`.
-jprom_status jprom_sweep_end_reason(const jprom_sweep_result *sweep, jprom_sweep_end *out);
+// where it stopped, come from `jprom_sweep_result_failure_copy`.
+jprom_status jprom_sweep_result_end_reason(const jprom_sweep_result *sweep, jprom_sweep_end *out);
 
 // A short name for a `jprom_sweep_end` value ("reached_end", "stalled", "point_cap",
 // "left_band", "cancelled"; "unknown" for any other value). Static storage: do not free.
 const char *jprom_sweep_end_name(int reason);
 
-// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_end_reason`
-// and `jprom_sweep_failure_copy`).
-jprom_status jprom_sweep_reached_end(const jprom_sweep_result *sweep, int *out);
+// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_result_end_reason`
+// and `jprom_sweep_result_failure_copy`).
+jprom_status jprom_sweep_result_reached_end(const jprom_sweep_result *sweep, int *out);
 
 // Copies why the sweep ended early (empty if it did not) into `buf`, with the convention of
 // `jprom_last_error_copy`: NUL-terminated, `*written` = full length, `JPROM_BAD_SIZE` if
 // truncated.
-jprom_status jprom_sweep_failure_copy(const jprom_sweep_result *sweep,
-                                      char *buf,
-                                      size_t len,
-                                      size_t *written);
+jprom_status jprom_sweep_result_failure_copy(const jprom_sweep_result *sweep,
+                                             char *buf,
+                                             size_t len,
+                                             size_t *written);
 
 // A point of a sweep as a new, independent `jprom_solution` (free it).
-jprom_status jprom_sweep_point(const jprom_sweep_result *sweep, size_t index, jprom_solution **out);
+jprom_status jprom_sweep_result_point(const jprom_sweep_result *sweep,
+                                      size_t index,
+                                      jprom_solution **out);
 
 // Angular frequency of point `index` of a sweep.
-jprom_status jprom_sweep_point_omega(const jprom_sweep_result *sweep, size_t index, double *out);
+jprom_status jprom_sweep_result_point_omega(const jprom_sweep_result *sweep,
+                                            size_t index,
+                                            double *out);
 
 // Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
 // `sqrt(c^2 + s^2)` for `h >= 1`).
-jprom_status jprom_sweep_point_amplitude(const jprom_sweep_result *sweep,
-                                         size_t index,
-                                         size_t h,
-                                         size_t j,
-                                         double *out);
+jprom_status jprom_sweep_result_point_amplitude(const jprom_sweep_result *sweep,
+                                                size_t index,
+                                                size_t h,
+                                                size_t j,
+                                                double *out);
 
 // Copies the output-DoF coefficients of point `index` (`(2H + 1) * n_outputs` values, entry
 // `k * n_outputs + j`, H = `options.harmonics` of the sweep) into `buf` of capacity `len`.
 // `JPROM_BAD_SIZE` if `len` is too small (nothing is written then).
-jprom_status jprom_sweep_point_output_coeffs(const jprom_sweep_result *sweep,
-                                             size_t index,
-                                             double *buf,
-                                             size_t len);
+jprom_status jprom_sweep_result_point_output_coeffs(const jprom_sweep_result *sweep,
+                                                    size_t index,
+                                                    double *buf,
+                                                    size_t len);
 
 // Energy dissipated per cycle by each contact at point `index` (`n_contacts` values) into
 // `buf` of capacity `len`.
-jprom_status jprom_sweep_point_dissipated_energy(const jprom_sweep_result *sweep,
-                                                 size_t index,
-                                                 double *buf,
-                                                 size_t len);
+jprom_status jprom_sweep_result_point_dissipated_energy(const jprom_sweep_result *sweep,
+                                                        size_t index,
+                                                        double *buf,
+                                                        size_t len);
 
 // Newton iterations and final relative residual of point `index` (either pointer may be NULL).
-jprom_status jprom_sweep_point_convergence(const jprom_sweep_result *sweep,
-                                           size_t index,
-                                           size_t *iterations,
-                                           double *residual);
+jprom_status jprom_sweep_result_point_convergence(const jprom_sweep_result *sweep,
+                                                  size_t index,
+                                                  size_t *iterations,
+                                                  double *residual);
 
 // Angular frequency of a solution.
 jprom_status jprom_solution_omega(const jprom_solution *solution, double *out);
@@ -1013,13 +1043,103 @@ jprom_status jprom_solution_save_json(const jprom_solution *solution, const char
 jprom_status jprom_solution_load_json(const char *path, jprom_solution **out);
 
 // Saves all points of a sweep as versioned JSON.
-jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep, const char *path);
+jprom_status jprom_sweep_result_save_json(const jprom_sweep_result *sweep, const char *path);
 
-// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
+// Loads a sweep saved by `jprom_sweep_result_save_json`, checked as a whole like
 // `jprom_solution_load_json`. `*out` is written only on success; free
-// it with `jprom_sweep_free`. A reduced sweep comes back with its predicted errors (`e*`)
+// it with `jprom_sweep_result_free`. A reduced sweep comes back with its predicted errors (`e*`)
 // and corrections.
-jprom_status jprom_sweep_load_json(const char *path, jprom_sweep_result **out);
+jprom_status jprom_sweep_result_load_json(const char *path, jprom_sweep_result **out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_free`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_free")
+jprom_status jprom_sweep_free(jprom_sweep_result *sweep);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_n_points`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_n_points")
+jprom_status jprom_sweep_n_points(const jprom_sweep_result *sweep,
+                                  size_t *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_end_reason`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_end_reason")
+jprom_status jprom_sweep_end_reason(const jprom_sweep_result *sweep,
+                                    jprom_sweep_end *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_reached_end`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_reached_end")
+jprom_status jprom_sweep_reached_end(const jprom_sweep_result *sweep,
+                                     int *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_failure_copy`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_failure_copy")
+jprom_status jprom_sweep_failure_copy(const jprom_sweep_result *sweep,
+                                      char *buf,
+                                      size_t len,
+                                      size_t *written);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point")
+jprom_status jprom_sweep_point(const jprom_sweep_result *sweep,
+                               size_t index,
+                               jprom_solution **out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_omega`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_omega")
+jprom_status jprom_sweep_point_omega(const jprom_sweep_result *sweep,
+                                     size_t index,
+                                     double *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_amplitude`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_amplitude")
+jprom_status jprom_sweep_point_amplitude(const jprom_sweep_result *sweep,
+                                         size_t index,
+                                         size_t h,
+                                         size_t j,
+                                         double *out);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_output_coeffs`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_output_coeffs")
+jprom_status jprom_sweep_point_output_coeffs(const jprom_sweep_result *sweep,
+                                             size_t index,
+                                             double *buf,
+                                             size_t len);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_dissipated_energy`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_dissipated_energy")
+jprom_status jprom_sweep_point_dissipated_energy(const jprom_sweep_result *sweep,
+                                                 size_t index,
+                                                 double *buf,
+                                                 size_t len);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_convergence`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_point_convergence")
+jprom_status jprom_sweep_point_convergence(const jprom_sweep_result *sweep,
+                                           size_t index,
+                                           size_t *iterations,
+                                           double *residual);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_save_json`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_save_json")
+jprom_status jprom_sweep_save_json(const jprom_sweep_result *sweep,
+                                   const char *path);
+
+// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_load_json`, named like every other
+// function on a `jprom_sweep_result`.
+JPROM_DEPRECATED("use jprom_sweep_result_load_json")
+jprom_status jprom_sweep_load_json(const char *path,
+                                   jprom_sweep_result **out);
 
 // The message of the last failed jprom call on this thread, NUL-terminated UTF-8; the empty
 // string if the last call succeeded. Never NULL. Owned by the library: valid until the next

@@ -132,7 +132,7 @@ pub unsafe extern "C" fn jprom_basis_load_json(path: *const c_char, out: *mut *m
 
 /// Sweeps the reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) of `model` on `basis`,
 /// like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
-/// predictor `e*_h` at every point (`jprom_sweep_point_predicted_error`; above about 0.05
+/// predictor `e*_h` at every point (`jprom_sweep_result_point_predicted_error`; above about 0.05
 /// for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_rom_sweep(
@@ -162,7 +162,7 @@ pub unsafe extern "C" fn jprom_rom_sweep(
 /// Predicted error `e*_h` of point `index` of a reduced sweep (`JPROM_INVALID_VALUE` for a
 /// full-order sweep, which has none).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_sweep_result, index: usize, h: usize, out: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_predicted_error(sweep: *const jprom_sweep_result, index: usize, h: usize, out: *mut f64) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let e = s
@@ -362,15 +362,15 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
 /// reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
 /// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
 /// unites the basis with modes regenerated from the worst reduced point (or predicted with a
-/// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_n_corrections` /
-/// `jprom_sweep_correction`, `e*` with `jprom_sweep_point_predicted_error`.
+/// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_result_n_corrections` /
+/// `jprom_sweep_result_correction`, `e*` with `jprom_sweep_result_point_predicted_error`.
 ///
 /// `callback` (may be NULL) is called after each converged point of each reduced sweep;
 /// `point_index` restarts at 0 when a correction starts a new sweep. If it returns nonzero,
 /// that sweep stops, no further correction is made, and the call returns `JPROM_OK` with the
 /// sweep so far (end reason `JPROM_SWEEP_CANCELLED`) and the basis, as `jprom_sweep`.
 ///
-/// On success `*out` receives the final sweep (free it with `jprom_sweep_free`) and, if
+/// On success `*out` receives the final sweep (free it with `jprom_sweep_result_free`) and, if
 /// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
 /// On failure neither is written.
 #[no_mangle]
@@ -422,7 +422,7 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
 }
 
 /// The kind of a correction of `jprom_rom_sweep_adaptive`, written to the `int kind` of
-/// `jprom_sweep_correction`.
+/// `jprom_sweep_result_correction`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(non_camel_case_types)]
@@ -437,7 +437,7 @@ pub enum jprom_correction_kind {
 /// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 /// other sweep, and when the first basis was good enough).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.corrections.len();
         Ok(())
@@ -451,7 +451,7 @@ pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_res
 /// may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
 /// of range, `JPROM_BAD_SIZE` if `len` is nonzero but below `H + 1`; nothing is written then.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_correction(
+pub unsafe extern "C" fn jprom_sweep_result_correction(
     sweep: *const jprom_sweep_result,
     index: usize,
     kind: *mut c_int,
@@ -495,13 +495,13 @@ pub unsafe extern "C" fn jprom_sweep_correction(
 
 /// The actual error `e_h`, `h = 0..H` (docs/formulation.md §10.1, paper (44)) of a reduced solution: the
 /// contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`
-/// on `basis`, copied out with `jprom_sweep_point`) against those of `full_solution` (a
+/// on `basis`, copied out with `jprom_sweep_result_point`) against those of `full_solution` (a
 /// full-order solution at the same omega, e.g. from `jprom_solve_point`), relative to the
 /// reduced ones. `model`, `basis`, `kind` and `options` must be those of the reduced sweep
 /// (they rebuild the reduced model; `JPROM_BAD_SIZE` if the basis does not match the
 /// solution). `H + 1` values go to `buf` of capacity `len`. `JPROM_INVALID_VALUE` if the two
 /// omegas differ (beyond 1e-9 relative), if `rom_solution` is full-order or `full_solution`
-/// reduced. Compare with `jprom_sweep_point_predicted_error` (`e*`, which needs no full-order
+/// reduced. Compare with `jprom_sweep_result_point_predicted_error` (`e*`, which needs no full-order
 /// solution).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_rom_actual_error(
@@ -549,4 +549,31 @@ pub unsafe extern "C" fn jprom_rom_actual_error(
         buf.copy_from_slice(&e);
         Ok(())
     })
+}
+
+// Names of 0.1 and 0.2, before every function on a `jprom_sweep_result` was named
+// `jprom_sweep_result_*`.
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_predicted_error`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_predicted_error")]
+pub unsafe extern "C" fn jprom_sweep_point_predicted_error(sweep: *const jprom_sweep_result, index: usize, h: usize, out: *mut f64) -> jprom_status {
+    jprom_sweep_result_point_predicted_error(sweep, index, h, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_n_corrections`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_n_corrections")]
+pub unsafe extern "C" fn jprom_sweep_n_corrections(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+    jprom_sweep_result_n_corrections(sweep, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_correction`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_correction")]
+pub unsafe extern "C" fn jprom_sweep_correction(sweep: *const jprom_sweep_result, index: usize, kind: *mut c_int, value: *mut f64, worst_before: *mut f64, worst_after: *mut f64, sizes: *mut usize, len: usize) -> jprom_status {
+    jprom_sweep_result_correction(sweep, index, kind, value, worst_before, worst_after, sizes, len)
 }

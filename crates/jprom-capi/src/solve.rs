@@ -134,7 +134,7 @@ pub struct jprom_solution {
     pub(crate) origin: Origin,
 }
 
-/// The points of a sweep. Released with `jprom_sweep_free`.
+/// The points of a sweep. Released with `jprom_sweep_result_free`.
 #[allow(non_camel_case_types)]
 pub struct jprom_sweep_result {
     magic: u64,
@@ -369,8 +369,8 @@ pub unsafe extern "C" fn jprom_sweep_from(
 /// `callback` may be NULL. If it returns nonzero the sweep stops there: the call returns
 /// `JPROM_OK` with the points computed so far and the end reason `JPROM_SWEEP_CANCELLED`.
 /// If continuation fails before the end of the band, the call also returns `JPROM_OK` with the
-/// points found; `jprom_sweep_reached_end` tells whether the band was covered, and
-/// `jprom_sweep_failure_copy` why not. If not even the first point converges, the status is
+/// points found; `jprom_sweep_result_reached_end` tells whether the band was covered, and
+/// `jprom_sweep_result_failure_copy` why not. If not even the first point converges, the status is
 /// that error and `*out` is not written.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep(
@@ -415,20 +415,20 @@ pub unsafe extern "C" fn jprom_solution_free(solution: *mut jprom_solution) -> j
 
 /// Releases a sweep (NULL is a no-op).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep_result) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_free(sweep: *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({ handle::free(sweep, "sweep") })
 }
 
 /// Number of converged points in a sweep.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.sweep.points.len();
         Ok(())
     })
 }
 
-/// Why a sweep ended (`jprom_sweep_end_reason`). The values never change.
+/// Why a sweep ended (`jprom_sweep_result_end_reason`). The values never change.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(non_camel_case_types)]
@@ -436,7 +436,7 @@ pub enum jprom_sweep_end {
     /// The branch reached `omega_end`.
     JPROM_SWEEP_REACHED_END = 0,
     /// The corrector could not converge even at the smallest step (`min_step`), after any
-    /// restarts: the text of `jprom_sweep_failure_copy` has where and the last residual.
+    /// restarts: the text of `jprom_sweep_result_failure_copy` has where and the last residual.
     JPROM_SWEEP_STALLED = 1,
     /// `max_points` points were computed before reaching `omega_end`.
     JPROM_SWEEP_POINT_CAP = 2,
@@ -459,9 +459,9 @@ impl From<SweepEnd> for jprom_sweep_end {
 }
 
 /// Why the sweep ended (`JPROM_SWEEP_REACHED_END` if it covered the band); the words, with
-/// where it stopped, come from `jprom_sweep_failure_copy`.
+/// where it stopped, come from `jprom_sweep_result_failure_copy`.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_end_reason(sweep: *const jprom_sweep_result, out: *mut jprom_sweep_end) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_end_reason(sweep: *const jprom_sweep_result, out: *mut jprom_sweep_end) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = handle::get(sweep, "sweep")?.record.sweep.end.into();
         Ok(())
@@ -483,10 +483,10 @@ pub extern "C" fn jprom_sweep_end_name(reason: c_int) -> *const c_char {
     name.as_ptr() as *const c_char
 }
 
-/// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_end_reason`
-/// and `jprom_sweep_failure_copy`).
+/// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_result_end_reason`
+/// and `jprom_sweep_result_failure_copy`).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = (handle::get(sweep, "sweep")?.record.sweep.end == SweepEnd::ReachedEnd) as c_int;
         Ok(())
@@ -497,7 +497,7 @@ pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_resul
 /// `jprom_last_error_copy`: NUL-terminated, `*written` = full length, `JPROM_BAD_SIZE` if
 /// truncated.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let text = s.record.sweep.failure.clone().unwrap_or_default();
@@ -520,7 +520,7 @@ unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Res
 
 /// A point of a sweep as a new, independent `jprom_solution` (free it).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
     ffi_guard!({
         let origin = handle::get(sweep, "sweep")?.origin;
         let p = sweep_point(sweep, index)?.clone();
@@ -534,7 +534,7 @@ pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, ind
 
 /// Angular frequency of point `index` of a sweep.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep_result, index: usize, out: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_omega(sweep: *const jprom_sweep_result, index: usize, out: *mut f64) -> jprom_status {
     ffi_guard!({
         *out_arg(out, "out")? = sweep_point(sweep, index)?.omega;
         Ok(())
@@ -544,7 +544,7 @@ pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep_resul
 /// Amplitude of harmonic `h` at output `j` of point `index` (`|c_0|` for `h = 0`,
 /// `sqrt(c^2 + s^2)` for `h >= 1`).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_result, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_amplitude(sweep: *const jprom_sweep_result, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
     ffi_guard!({
         let p = sweep_point(sweep, index)?;
         *out_arg(out, "out")? = amplitude(p, h, j)?;
@@ -556,20 +556,20 @@ pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_r
 /// `k * n_outputs + j`, H = `options.harmonics` of the sweep) into `buf` of capacity `len`.
 /// `JPROM_BAD_SIZE` if `len` is too small (nothing is written then).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_output_coeffs(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_output_coeffs(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
     ffi_guard!({ copy_output_coeffs(sweep_point(sweep, index)?, buf, len) })
 }
 
 /// Energy dissipated per cycle by each contact at point `index` (`n_contacts` values) into
 /// `buf` of capacity `len`.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_dissipated_energy(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_dissipated_energy(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
     ffi_guard!({ copy_dissipated_energy(sweep_point(sweep, index)?, buf, len) })
 }
 
 /// Newton iterations and final relative residual of point `index` (either pointer may be NULL).
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_point_convergence(sweep: *const jprom_sweep_result, index: usize, iterations: *mut usize, residual: *mut f64) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_point_convergence(sweep: *const jprom_sweep_result, index: usize, iterations: *mut usize, residual: *mut f64) -> jprom_status {
     ffi_guard!({
         write_convergence(sweep_point(sweep, index)?, iterations, residual);
         Ok(())
@@ -731,7 +731,7 @@ pub unsafe extern "C" fn jprom_solution_load_json(path: *const c_char, out: *mut
 
 /// Saves all points of a sweep as versioned JSON.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
         let path = path_arg(path, "path")?;
@@ -745,12 +745,12 @@ pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result,
     })
 }
 
-/// Loads a sweep saved by `jprom_sweep_save_json`, checked as a whole like
+/// Loads a sweep saved by `jprom_sweep_result_save_json`, checked as a whole like
 /// `jprom_solution_load_json`. `*out` is written only on success; free
-/// it with `jprom_sweep_free`. A reduced sweep comes back with its predicted errors (`e*`)
+/// it with `jprom_sweep_result_free`. A reduced sweep comes back with its predicted errors (`e*`)
 /// and corrections.
 #[no_mangle]
-pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
+pub unsafe extern "C" fn jprom_sweep_result_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
     ffi_guard!({
         let out = out_arg(out, "out")?;
         let path = path_arg(path, "path")?;
@@ -765,4 +765,111 @@ pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *m
         *out = handle;
         Ok(())
     })
+}
+
+// Names of 0.1 and 0.2, before every function on a `jprom_sweep_result` was named
+// `jprom_sweep_result_*`.
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_free`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_free")]
+pub unsafe extern "C" fn jprom_sweep_free(sweep: *mut jprom_sweep_result) -> jprom_status {
+    jprom_sweep_result_free(sweep)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_n_points`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_n_points")]
+pub unsafe extern "C" fn jprom_sweep_n_points(sweep: *const jprom_sweep_result, out: *mut usize) -> jprom_status {
+    jprom_sweep_result_n_points(sweep, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_end_reason`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_end_reason")]
+pub unsafe extern "C" fn jprom_sweep_end_reason(sweep: *const jprom_sweep_result, out: *mut jprom_sweep_end) -> jprom_status {
+    jprom_sweep_result_end_reason(sweep, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_reached_end`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_reached_end")]
+pub unsafe extern "C" fn jprom_sweep_reached_end(sweep: *const jprom_sweep_result, out: *mut c_int) -> jprom_status {
+    jprom_sweep_result_reached_end(sweep, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_failure_copy`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_failure_copy")]
+pub unsafe extern "C" fn jprom_sweep_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
+    jprom_sweep_result_failure_copy(sweep, buf, len, written)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point")]
+pub unsafe extern "C" fn jprom_sweep_point(sweep: *const jprom_sweep_result, index: usize, out: *mut *mut jprom_solution) -> jprom_status {
+    jprom_sweep_result_point(sweep, index, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_omega`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_omega")]
+pub unsafe extern "C" fn jprom_sweep_point_omega(sweep: *const jprom_sweep_result, index: usize, out: *mut f64) -> jprom_status {
+    jprom_sweep_result_point_omega(sweep, index, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_amplitude`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_amplitude")]
+pub unsafe extern "C" fn jprom_sweep_point_amplitude(sweep: *const jprom_sweep_result, index: usize, h: usize, j: usize, out: *mut f64) -> jprom_status {
+    jprom_sweep_result_point_amplitude(sweep, index, h, j, out)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_output_coeffs`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_output_coeffs")]
+pub unsafe extern "C" fn jprom_sweep_point_output_coeffs(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+    jprom_sweep_result_point_output_coeffs(sweep, index, buf, len)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_dissipated_energy`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_dissipated_energy")]
+pub unsafe extern "C" fn jprom_sweep_point_dissipated_energy(sweep: *const jprom_sweep_result, index: usize, buf: *mut f64, len: usize) -> jprom_status {
+    jprom_sweep_result_point_dissipated_energy(sweep, index, buf, len)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_point_convergence`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_point_convergence")]
+pub unsafe extern "C" fn jprom_sweep_point_convergence(sweep: *const jprom_sweep_result, index: usize, iterations: *mut usize, residual: *mut f64) -> jprom_status {
+    jprom_sweep_result_point_convergence(sweep, index, iterations, residual)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_save_json`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_save_json")]
+pub unsafe extern "C" fn jprom_sweep_save_json(sweep: *const jprom_sweep_result, path: *const c_char) -> jprom_status {
+    jprom_sweep_result_save_json(sweep, path)
+}
+
+/// Deprecated since 0.3 (kept, as every released function): `jprom_sweep_result_load_json`, named like every other
+/// function on a `jprom_sweep_result`.
+#[no_mangle]
+#[deprecated(since = "0.3.0", note = "use jprom_sweep_result_load_json")]
+pub unsafe extern "C" fn jprom_sweep_load_json(path: *const c_char, out: *mut *mut jprom_sweep_result) -> jprom_status {
+    jprom_sweep_result_load_json(path, out)
 }

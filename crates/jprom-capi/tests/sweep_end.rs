@@ -1,5 +1,5 @@
 //! Issue 11, acceptance 3, from C and Fortran: a sweep forced to stall reports its reason
-//! (`jprom_sweep_end_reason`, `jprom_sweep_failure_copy`; `jp_sweep_end`).
+//! (`jprom_sweep_result_end_reason`, `jprom_sweep_result_failure_copy`; `jp_sweep_end`).
 
 use jprom_testkit::native::*;
 

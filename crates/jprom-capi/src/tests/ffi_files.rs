@@ -80,20 +80,20 @@ fn model_solution_and_sweep_round_trip() {
         let mut sw = null_mut();
         ok(jprom_sweep(m, &o, &s, None, null_mut(), &mut sw));
         let wp = tmp("sweep.json");
-        ok(jprom_sweep_save_json(sw, wp.as_ptr()));
+        ok(jprom_sweep_result_save_json(sw, wp.as_ptr()));
         let mut sw2 = null_mut();
-        ok(jprom_sweep_load_json(wp.as_ptr(), &mut sw2));
+        ok(jprom_sweep_result_load_json(wp.as_ptr(), &mut sw2));
         let (mut n1, mut n2) = (0, 0);
-        ok(jprom_sweep_n_points(sw, &mut n1));
-        ok(jprom_sweep_n_points(sw2, &mut n2));
+        ok(jprom_sweep_result_n_points(sw, &mut n1));
+        ok(jprom_sweep_result_n_points(sw2, &mut n2));
         assert!(n1 > 5);
         assert_eq!(n1, n2);
         for i in 0..n1 {
             let (mut w1, mut w2, mut x1, mut x2) = (0.0, 0.0, 0.0, 0.0);
-            ok(jprom_sweep_point_omega(sw, i, &mut w1));
-            ok(jprom_sweep_point_omega(sw2, i, &mut w2));
-            ok(jprom_sweep_point_amplitude(sw, i, 1, 0, &mut x1));
-            ok(jprom_sweep_point_amplitude(sw2, i, 1, 0, &mut x2));
+            ok(jprom_sweep_result_point_omega(sw, i, &mut w1));
+            ok(jprom_sweep_result_point_omega(sw2, i, &mut w2));
+            ok(jprom_sweep_result_point_amplitude(sw, i, 1, 0, &mut x1));
+            ok(jprom_sweep_result_point_amplitude(sw2, i, 1, 0, &mut x2));
             assert_eq!((w1, x1), (w2, x2));
         }
 
@@ -101,13 +101,13 @@ fn model_solution_and_sweep_round_trip() {
         let mut wrong = null_mut();
         // (the data of a solution does not parse as a sweep: PARSE; an envelope of another kind
         // whose data happened to parse would be refused as IO)
-        let st = jprom_sweep_load_json(sp.as_ptr(), &mut wrong);
+        let st = jprom_sweep_result_load_json(sp.as_ptr(), &mut wrong);
         assert!(matches!(st, jprom_status::JPROM_PARSE | jprom_status::JPROM_IO), "{st:?}");
         assert!(!std::ffi::CStr::from_ptr(jprom_last_error_message()).to_bytes().is_empty());
         assert!(wrong.is_null(), "out written on failure");
 
         for p in [sw, sw2] {
-            ok(jprom_sweep_free(p));
+            ok(jprom_sweep_result_free(p));
         }
         for p in [a, b, a2] {
             ok(jprom_solution_free(p));

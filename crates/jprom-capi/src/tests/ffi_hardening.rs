@@ -130,11 +130,11 @@ fn edited_solution_and_sweep_files_are_refused_at_loading_not_indexed_out_of_bou
         let mut sweep = null_mut();
         ok(jprom_sweep(m, &o, &s, None, null_mut(), &mut sweep));
         let mut sol = null_mut();
-        ok(jprom_sweep_point(sweep, 1, &mut sol));
+        ok(jprom_sweep_result_point(sweep, 1, &mut sol));
         let sol_path = dir.join("solution.json");
         let sweep_path = dir.join("sweep.json");
         ok(jprom_solution_save_json(sol, c_path(&sol_path).as_ptr()));
-        ok(jprom_sweep_save_json(sweep, c_path(&sweep_path).as_ptr()));
+        ok(jprom_sweep_result_save_json(sweep, c_path(&sweep_path).as_ptr()));
 
         // n_outputs edited: the amplitude accessor would read past `outputs`
         let p = dir.join("solution_n_outputs.json");
@@ -163,7 +163,7 @@ fn edited_solution_and_sweep_files_are_refused_at_loading_not_indexed_out_of_bou
         std::fs::copy(&sweep_path, &p).unwrap();
         edit_json(&p, |v| v["data"]["points"][2]["n_outputs"] = Value::from(1));
         let mut w = null_mut();
-        assert_eq!(jprom_sweep_load_json(c_path(&p).as_ptr(), &mut w), jprom_status::JPROM_PARSE);
+        assert_eq!(jprom_sweep_result_load_json(c_path(&p).as_ptr(), &mut w), jprom_status::JPROM_PARSE);
         let msg = last_error();
         assert!(msg.contains("key 'data.points[2].outputs'"), "{msg}");
         assert!(w.is_null());
@@ -176,7 +176,7 @@ fn edited_solution_and_sweep_files_are_refused_at_loading_not_indexed_out_of_bou
             cycles.push(c);
         });
         let mut w2 = null_mut();
-        assert_eq!(jprom_sweep_load_json(c_path(&p).as_ptr(), &mut w2), jprom_status::JPROM_PARSE);
+        assert_eq!(jprom_sweep_result_load_json(c_path(&p).as_ptr(), &mut w2), jprom_status::JPROM_PARSE);
         assert!(last_error().contains("data.points[0].contact_cycles[1].states"), "{}", last_error());
         // every point must have the sizes of the first
         std::fs::copy(&sweep_path, &p).unwrap();
@@ -185,16 +185,16 @@ fn edited_solution_and_sweep_files_are_refused_at_loading_not_indexed_out_of_bou
             let c = cycles[0].clone();
             cycles.push(c);
         });
-        assert_eq!(jprom_sweep_load_json(c_path(&p).as_ptr(), &mut w2), jprom_status::JPROM_PARSE);
+        assert_eq!(jprom_sweep_result_load_json(c_path(&p).as_ptr(), &mut w2), jprom_status::JPROM_PARSE);
         assert!(last_error().contains("data.points[3]") && last_error().contains("other sizes"), "{}", last_error());
         assert!(w2.is_null());
         // the untouched files load
-        ok(jprom_sweep_load_json(c_path(&sweep_path).as_ptr(), &mut w));
+        ok(jprom_sweep_result_load_json(c_path(&sweep_path).as_ptr(), &mut w));
         let mut amp = 0.0;
-        ok(jprom_sweep_point_amplitude(w, 1, 2, 1, &mut amp));
-        jprom_sweep_free(w);
+        ok(jprom_sweep_result_point_amplitude(w, 1, 2, 1, &mut amp));
+        jprom_sweep_result_free(w);
         jprom_solution_free(sol);
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         jprom_model_free(m);
     }
 }
@@ -290,7 +290,7 @@ fn an_ok_return_leaves_no_stale_message_from_a_nested_failure() {
         assert_eq!(st, jprom_status::JPROM_OK);
         assert!(nested > 0);
         assert_eq!(last_error(), "", "stale message after an OK return");
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         jprom_model_free(m);
     }
 }

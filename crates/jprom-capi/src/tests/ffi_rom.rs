@@ -95,28 +95,28 @@ fn rom_sweep_through_c_matches_the_rust_api() {
         assert_eq!(jprom_rom_sweep(m, b, 7, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_INVALID_VALUE);
         assert_eq!(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut s), jprom_status::JPROM_OK);
         let mut n = 0;
-        jprom_sweep_n_points(s, &mut n);
+        jprom_sweep_result_n_points(s, &mut n);
         assert_eq!(n, expect.points.len());
         for (i, p) in expect.points.iter().enumerate() {
             let (mut w, mut a, mut e) = (0.0, 0.0, 0.0);
-            jprom_sweep_point_omega(s, i, &mut w);
-            jprom_sweep_point_amplitude(s, i, 1, 1, &mut a);
-            assert_eq!(jprom_sweep_point_predicted_error(s, i, 1, &mut e), jprom_status::JPROM_OK);
+            jprom_sweep_result_point_omega(s, i, &mut w);
+            jprom_sweep_result_point_amplitude(s, i, 1, 1, &mut a);
+            assert_eq!(jprom_sweep_result_point_predicted_error(s, i, 1, &mut e), jprom_status::JPROM_OK);
             assert_eq!(w, p.omega);
             assert_eq!(a, p.output_amplitude(1, 1));
             assert!(e.is_finite() && e >= 0.0);
         }
-        jprom_sweep_free(s);
+        jprom_sweep_result_free(s);
         // a full-order sweep has no predicted error
         let mut fo = std::ptr::null_mut();
         assert_eq!(jprom_sweep(m, &opts, &sopts, None, std::ptr::null_mut(), &mut fo), jprom_status::JPROM_OK);
         let mut e = 0.0;
-        assert_eq!(jprom_sweep_point_predicted_error(fo, 0, 1, &mut e), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_sweep_result_point_predicted_error(fo, 0, 1, &mut e), jprom_status::JPROM_INVALID_VALUE);
         // FR runs too
         let mut fr = std::ptr::null_mut();
         assert_eq!(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_FR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut fr), jprom_status::JPROM_OK);
-        jprom_sweep_free(fr);
-        jprom_sweep_free(fo);
+        jprom_sweep_result_free(fr);
+        jprom_sweep_result_free(fo);
         jprom_basis_free(b);
         assert_eq!(jprom_basis_free(b), jprom_status::JPROM_INVALID_HANDLE);
         jprom_model_free(m);
@@ -150,13 +150,13 @@ unsafe fn basis_sizes(b: *const jprom_basis) -> Vec<usize> {
 /// Per point: (omega, |X1| at output 1, e*_1).
 unsafe fn c_rows(s: *const jprom_sweep_result) -> Vec<(f64, f64, f64)> {
     let mut n = 0;
-    ok(jprom_sweep_n_points(s, &mut n));
+    ok(jprom_sweep_result_n_points(s, &mut n));
     (0..n)
         .map(|i| {
             let (mut w, mut a, mut e) = (0.0, 0.0, 0.0);
-            ok(jprom_sweep_point_omega(s, i, &mut w));
-            ok(jprom_sweep_point_amplitude(s, i, 1, 1, &mut a));
-            ok(jprom_sweep_point_predicted_error(s, i, 1, &mut e));
+            ok(jprom_sweep_result_point_omega(s, i, &mut w));
+            ok(jprom_sweep_result_point_amplitude(s, i, 1, 1, &mut a));
+            ok(jprom_sweep_result_point_predicted_error(s, i, 1, &mut e));
             (w, a, e)
         })
         .collect()
@@ -246,51 +246,51 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         }
         assert_eq!(basis_sizes(b), expect.basis.sizes);
         let mut nc = 99;
-        ok(jprom_sweep_n_corrections(s, &mut nc));
+        ok(jprom_sweep_result_n_corrections(s, &mut nc));
         assert_eq!(nc, expect.corrections.len());
         for (i, c) in expect.corrections.iter().enumerate() {
             let (mut kind, mut value, mut before, mut after) = (-1, 0.0, 0.0, 0.0);
             let mut sizes = [0usize; 2];
-            ok(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 2));
+            ok(jprom_sweep_result_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 2));
             let want = match c.kind {
                 CorrectionKind::Regenerated { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int), from_omega),
                 CorrectionKind::GammaIncreased { gamma } => ((jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int), gamma),
             };
             assert_eq!((kind, value, before, after, sizes.to_vec()), (want.0, want.1, c.worst_error_before, c.worst_error_after, c.sizes.clone()));
             // every pointer may be NULL
-            ok(jprom_sweep_correction(s, i, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0));
-            assert_eq!(jprom_sweep_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
+            ok(jprom_sweep_result_correction(s, i, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0));
+            assert_eq!(jprom_sweep_result_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
         }
-        assert_eq!(jprom_sweep_correction(s, nc, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_sweep_result_correction(s, nc, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0), jprom_status::JPROM_INVALID_VALUE);
         // saved and loaded, the reduced sweep keeps its e* and its corrections
         let path = std::env::temp_dir().join(format!("jprom-adaptive-{}.json", std::process::id()));
         let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
-        ok(jprom_sweep_save_json(s, cpath.as_ptr()));
+        ok(jprom_sweep_result_save_json(s, cpath.as_ptr()));
         assert!(std::fs::read_to_string(&path).unwrap().contains("\"kind\":\"reduced_sweep\""));
         let mut loaded = std::ptr::null_mut();
-        ok(jprom_sweep_load_json(cpath.as_ptr(), &mut loaded));
+        ok(jprom_sweep_result_load_json(cpath.as_ptr(), &mut loaded));
         assert_eq!(c_rows(loaded), rows, "omega, X1 and e*_1 after a save and a load");
         let mut nl = 99;
-        ok(jprom_sweep_n_corrections(loaded, &mut nl));
+        ok(jprom_sweep_result_n_corrections(loaded, &mut nl));
         assert_eq!(nl, nc);
         for i in 0..nc {
             let mut a = (-1, 0.0, 0.0, 0.0);
             let mut b2 = (-1, 0.0, 0.0, 0.0);
-            ok(jprom_sweep_correction(s, i, &mut a.0, &mut a.1, &mut a.2, &mut a.3, std::ptr::null_mut(), 0));
-            ok(jprom_sweep_correction(loaded, i, &mut b2.0, &mut b2.1, &mut b2.2, &mut b2.3, std::ptr::null_mut(), 0));
+            ok(jprom_sweep_result_correction(s, i, &mut a.0, &mut a.1, &mut a.2, &mut a.3, std::ptr::null_mut(), 0));
+            ok(jprom_sweep_result_correction(loaded, i, &mut b2.0, &mut b2.1, &mut b2.2, &mut b2.3, std::ptr::null_mut(), 0));
             assert_eq!(a, b2);
         }
-        ok(jprom_sweep_free(loaded));
+        ok(jprom_sweep_result_free(loaded));
         std::fs::remove_file(&path).ok();
         // the final basis is usable: a plain ROM sweep on it gives the final pass again
         let mut again = std::ptr::null_mut();
         ok(jprom_rom_sweep(m, b, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, None, std::ptr::null_mut(), &mut again));
         assert_eq!(c_rows(again), rows);
         let mut zero = 99;
-        ok(jprom_sweep_n_corrections(again, &mut zero));
+        ok(jprom_sweep_result_n_corrections(again, &mut zero));
         assert_eq!(zero, 0);
-        ok(jprom_sweep_free(again));
-        ok(jprom_sweep_free(s));
+        ok(jprom_sweep_result_free(again));
+        ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
 
         // the defaults, FR, no basis wanted
@@ -302,7 +302,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let fr_rows = c_rows(fr);
         assert_eq!(fr_rows.len(), fr_expect.sweep.points.len());
         assert_eq!(fr_rows.last().unwrap().2, fr_expect.predicted_errors.last().unwrap()[1]);
-        ok(jprom_sweep_free(fr));
+        ok(jprom_sweep_result_free(fr));
 
         // a callback that stops: OK with end reason CANCELLED, the points so far and the basis are handed out
         unsafe extern "C" fn stop_at_third(_: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
@@ -311,15 +311,15 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
         assert_eq!(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, Some(stop_at_third), std::ptr::null_mut(), &mut s, &mut b), jprom_status::JPROM_OK);
         let mut reason = jprom_sweep_end::JPROM_SWEEP_REACHED_END;
-        assert_eq!(jprom_sweep_end_reason(s, &mut reason), jprom_status::JPROM_OK);
+        assert_eq!(jprom_sweep_result_end_reason(s, &mut reason), jprom_status::JPROM_OK);
         assert_eq!(reason, jprom_sweep_end::JPROM_SWEEP_CANCELLED);
         let mut n = 0;
-        ok(jprom_sweep_n_points(s, &mut n));
+        ok(jprom_sweep_result_n_points(s, &mut n));
         assert_eq!(n, 3);
-        ok(jprom_sweep_n_corrections(s, &mut n));
+        ok(jprom_sweep_result_n_corrections(s, &mut n));
         assert_eq!(n, 0);
         assert!(!b.is_null());
-        ok(jprom_sweep_free(s));
+        ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
         ok(jprom_model_free(m));
     }
@@ -378,7 +378,7 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         let fo0 = solve_point(&cond, p0.omega, None, &hopts).unwrap();
         let want = actual_error(&rom, p0.omega, &p0.z, &fo0).unwrap();
         let mut rs = std::ptr::null_mut();
-        ok(jprom_sweep_point(s, 0, &mut rs));
+        ok(jprom_sweep_result_point(s, 0, &mut rs));
         let mut fs0 = std::ptr::null_mut();
         ok(jprom_solve_point(m, p0.omega, &opts, &mut fs0));
         let mut e = [f64::NAN; 2];
@@ -406,6 +406,104 @@ fn basis_from_solution_and_actual_error_through_c_match_the_rust_api() {
         for p in [rs, fs0, ff0, fs] {
             ok(jprom_solution_free(p));
         }
+        ok(jprom_sweep_result_free(s));
+        ok(jprom_basis_free(b));
+        ok(jprom_model_free(m));
+    }
+}
+
+/// The names of 0.1 and 0.2 on a sweep (`jprom_sweep_n_points`, ..., deprecated in 0.3) still
+/// work and give what the `jprom_sweep_result_*` names give, on a reduced sweep with
+/// corrections and e* at every point.
+#[test]
+#[allow(deprecated)]
+fn deprecated_sweep_names_forward_to_the_new_ones() {
+    unsafe {
+        let m = c_model();
+        let band = (80.0, 200.0);
+        let (opts, sopts, mut jo) = c_options(band);
+        jo.n_samples = 30;
+        jo.threshold = 1e-12;
+        jo.max_corrections = 2;
+        let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
+        ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, None, std::ptr::null_mut(), &mut s, &mut b));
+        let (mut n_old, mut n_new) = (0, 1);
+        ok(jprom_sweep_n_points(s, &mut n_old));
+        ok(jprom_sweep_result_n_points(s, &mut n_new));
+        assert!(n_old > 10 && n_old == n_new, "{n_old} vs {n_new}");
+        let (mut e_old, mut e_new) = (jprom_sweep_end::JPROM_SWEEP_STALLED, jprom_sweep_end::JPROM_SWEEP_CANCELLED);
+        ok(jprom_sweep_end_reason(s, &mut e_old));
+        ok(jprom_sweep_result_end_reason(s, &mut e_new));
+        assert_eq!(e_old, e_new);
+        let (mut r_old, mut r_new) = (-1, -2);
+        ok(jprom_sweep_reached_end(s, &mut r_old));
+        ok(jprom_sweep_result_reached_end(s, &mut r_new));
+        assert_eq!((r_old, r_new), (1, 1));
+        let (mut buf_old, mut buf_new) = ([1 as std::ffi::c_char; 8], [2 as std::ffi::c_char; 8]);
+        let (mut w_old, mut w_new) = (9, 9);
+        ok(jprom_sweep_failure_copy(s, buf_old.as_mut_ptr(), 8, &mut w_old));
+        ok(jprom_sweep_result_failure_copy(s, buf_new.as_mut_ptr(), 8, &mut w_new));
+        assert_eq!((w_old, buf_old[0]), (w_new, buf_new[0]));
+        let n_out = 2;
+        for i in [0, n_old / 2, n_old - 1] {
+            let (mut a, mut b2) = ([0.0; 6], [0.0; 6]);
+            let (mut w0, mut w1) = (0.0, 1.0);
+            ok(jprom_sweep_point_omega(s, i, &mut w0));
+            ok(jprom_sweep_result_point_omega(s, i, &mut w1));
+            assert_eq!(w0, w1);
+            ok(jprom_sweep_point_amplitude(s, i, 1, 1, &mut a[0]));
+            ok(jprom_sweep_result_point_amplitude(s, i, 1, 1, &mut b2[0]));
+            assert_eq!(a[0], b2[0]);
+            ok(jprom_sweep_point_output_coeffs(s, i, a.as_mut_ptr(), 3 * n_out));
+            ok(jprom_sweep_result_point_output_coeffs(s, i, b2.as_mut_ptr(), 3 * n_out));
+            assert_eq!(a, b2);
+            let (mut d0, mut d1) = ([0.0; 2], [1.0; 2]);
+            ok(jprom_sweep_point_dissipated_energy(s, i, d0.as_mut_ptr(), 2));
+            ok(jprom_sweep_result_point_dissipated_energy(s, i, d1.as_mut_ptr(), 2));
+            assert_eq!(d0, d1);
+            let (mut it0, mut it1, mut res0, mut res1) = (0, 1, 0.0, 1.0);
+            ok(jprom_sweep_point_convergence(s, i, &mut it0, &mut res0));
+            ok(jprom_sweep_result_point_convergence(s, i, &mut it1, &mut res1));
+            assert_eq!((it0, res0), (it1, res1));
+            let (mut p0, mut p1) = (0.0, 1.0);
+            ok(jprom_sweep_point_predicted_error(s, i, 1, &mut p0));
+            ok(jprom_sweep_result_point_predicted_error(s, i, 1, &mut p1));
+            assert_eq!(p0, p1);
+            let (mut sol0, mut sol1) = (std::ptr::null_mut(), std::ptr::null_mut());
+            ok(jprom_sweep_point(s, i, &mut sol0));
+            ok(jprom_sweep_result_point(s, i, &mut sol1));
+            assert_eq!((*sol0).point, (*sol1).point);
+            ok(jprom_solution_free(sol0));
+            ok(jprom_solution_free(sol1));
+        }
+        let (mut c_old, mut c_new) = (0, 9);
+        ok(jprom_sweep_n_corrections(s, &mut c_old));
+        ok(jprom_sweep_result_n_corrections(s, &mut c_new));
+        assert!(c_old >= 1 && c_old == c_new, "{c_old} vs {c_new}");
+        for i in 0..c_old {
+            let (mut k0, mut v0, mut b0, mut a0) = (-1, 0.0, 0.0, 0.0);
+            let (mut k1, mut v1, mut b1, mut a1) = (-2, 1.0, 1.0, 1.0);
+            ok(jprom_sweep_correction(s, i, &mut k0, &mut v0, &mut b0, &mut a0, std::ptr::null_mut(), 0));
+            ok(jprom_sweep_result_correction(s, i, &mut k1, &mut v1, &mut b1, &mut a1, std::ptr::null_mut(), 0));
+            assert_eq!((k0, v0, b0, a0), (k1, v1, b1, a1));
+        }
+        // saved by the old name, loaded by the new one, and the other way round
+        let dir = std::env::temp_dir();
+        let p_old = std::ffi::CString::new(dir.join(format!("jprom-dep-old-{}.json", std::process::id())).to_str().unwrap()).unwrap();
+        let p_new = std::ffi::CString::new(dir.join(format!("jprom-dep-new-{}.json", std::process::id())).to_str().unwrap()).unwrap();
+        ok(jprom_sweep_save_json(s, p_old.as_ptr()));
+        ok(jprom_sweep_result_save_json(s, p_new.as_ptr()));
+        let (mut l_old, mut l_new) = (std::ptr::null_mut(), std::ptr::null_mut());
+        ok(jprom_sweep_load_json(p_new.as_ptr(), &mut l_old));
+        ok(jprom_sweep_result_load_json(p_old.as_ptr(), &mut l_new));
+        assert_eq!(c_rows(l_old), c_rows(s));
+        assert_eq!(c_rows(l_new), c_rows(s));
+        for p in [&p_old, &p_new] {
+            std::fs::remove_file(p.to_str().unwrap()).ok();
+        }
+        ok(jprom_sweep_free(l_old));
+        ok(jprom_sweep_result_free(l_new));
+        assert_eq!(jprom_sweep_free(std::ptr::null_mut()), jprom_status::JPROM_OK);
         ok(jprom_sweep_free(s));
         ok(jprom_basis_free(b));
         ok(jprom_model_free(m));

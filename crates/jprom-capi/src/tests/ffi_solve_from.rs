@@ -120,12 +120,12 @@ unsafe fn sweep_options(w0: f64, w1: f64) -> jprom_sweep_options {
 
 unsafe fn omegas_and_amplitudes(sw: *const jprom_sweep_result) -> Vec<(f64, f64)> {
     let mut n = 0;
-    ok(jprom_sweep_n_points(sw, &mut n));
+    ok(jprom_sweep_result_n_points(sw, &mut n));
     (0..n)
         .map(|i| {
             let (mut w, mut a) = (0.0, 0.0);
-            ok(jprom_sweep_point_omega(sw, i, &mut w));
-            ok(jprom_sweep_point_amplitude(sw, i, 1, 0, &mut a));
+            ok(jprom_sweep_result_point_omega(sw, i, &mut w));
+            ok(jprom_sweep_result_point_amplitude(sw, i, 1, 0, &mut a));
             (w, a)
         })
         .collect()
@@ -141,12 +141,12 @@ fn a_sweep_restarted_from_one_of_its_points_goes_on_from_that_point() {
         let first = omegas_and_amplitudes(whole);
         let k = first.len() / 2;
         let mut start = null_mut();
-        ok(jprom_sweep_point(whole, k, &mut start));
+        ok(jprom_sweep_result_point(whole, k, &mut start));
         let mut rest = null_mut();
         ok(jprom_sweep_from(m, &o, &sweep_options(first[k].0, 140.0), start, None, null_mut(), &mut rest));
         let second = omegas_and_amplitudes(rest);
         let mut reached = 0;
-        ok(jprom_sweep_reached_end(rest, &mut reached));
+        ok(jprom_sweep_result_reached_end(rest, &mut reached));
         assert_eq!(reached, 1);
         // it starts on the point it was given (not the solution from zero there), and ends
         // where the whole sweep ended
@@ -155,8 +155,8 @@ fn a_sweep_restarted_from_one_of_its_points_goes_on_from_that_point() {
         assert_eq!(a.0, b.0);
         assert!((a.1 - b.1).abs() <= 1e-8 * b.1, "{a:?} vs {b:?}");
         ok(jprom_solution_free(start));
-        ok(jprom_sweep_free(whole));
-        ok(jprom_sweep_free(rest));
+        ok(jprom_sweep_result_free(whole));
+        ok(jprom_sweep_result_free(rest));
         ok(jprom_model_free(m));
     }
 }

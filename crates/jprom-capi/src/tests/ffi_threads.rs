@@ -47,13 +47,13 @@ fn solve(scale: f64) -> Vec<[f64; 3]> {
         let mut sweep = std::ptr::null_mut();
         assert_eq!(jprom_sweep(model, &opts, &sopts, None, std::ptr::null_mut(), &mut sweep), jprom_status::JPROM_OK);
         let mut n = 0;
-        jprom_sweep_n_points(sweep, &mut n);
+        jprom_sweep_result_n_points(sweep, &mut n);
         let mut rows = Vec::new();
         for i in 0..n {
             let mut r = [0.0; 3];
-            jprom_sweep_point_omega(sweep, i, &mut r[0]);
-            jprom_sweep_point_amplitude(sweep, i, 1, 0, &mut r[1]);
-            jprom_sweep_point_amplitude(sweep, i, 1, 1, &mut r[2]);
+            jprom_sweep_result_point_omega(sweep, i, &mut r[0]);
+            jprom_sweep_result_point_amplitude(sweep, i, 1, 0, &mut r[1]);
+            jprom_sweep_result_point_amplitude(sweep, i, 1, 1, &mut r[2]);
             rows.push(r);
         }
         let tag = format!("scale {scale}");
@@ -62,7 +62,7 @@ fn solve(scale: f64) -> Vec<[f64; 3]> {
         assert_eq!(jprom_model_load_json(bad.as_ptr(), &mut other), jprom_status::JPROM_IO);
         let msg = CStr::from_ptr(jprom_last_error_message()).to_string_lossy().into_owned();
         assert!(msg.contains(&tag), "message of another thread: {msg}");
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         jprom_model_free(model);
         rows
     }

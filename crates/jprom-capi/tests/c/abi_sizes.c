@@ -31,10 +31,10 @@ static jprom_status sweep_summary(jprom_model *model, const jprom_sweep_options 
         CHECK(sweep == NULL, "*out written on failure");
         return s;
     }
-    jprom_sweep_n_points(sweep, n);
-    jprom_sweep_point_omega(sweep, *n - 1, omega);
-    jprom_sweep_point_amplitude(sweep, *n - 1, 1, 0, x1);
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_n_points(sweep, n);
+    jprom_sweep_result_point_omega(sweep, *n - 1, omega);
+    jprom_sweep_result_point_amplitude(sweep, *n - 1, 1, 0, x1);
+    jprom_sweep_result_free(sweep);
     return s;
 }
 

@@ -379,7 +379,7 @@ static void one_call(void) {
         jprom_sweep_options so = sweep_opts();
         w = NULL;
         st = seen("jprom_sweep", jprom_sweep(PICK_MODEL(), chance(98) ? &o : NULL, chance(98) ? &so : NULL, rcallback(), NULL, chance(98) ? &w : NULL));
-        if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) ADOPT(sweeps, jprom_sweep_free, w);
+        if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) ADOPT(sweeps, jprom_sweep_result_free, w);
         else if (w != NULL) violation("jprom_sweep", "out written on failure");
     } else if (k < 310) { /* basis prediction */
         jprom_hbm_options o = hbm_opts(0);
@@ -403,7 +403,7 @@ static void one_call(void) {
         jprom_sweep_options so = sweep_opts();
         w = NULL;
         st = seen("jprom_rom_sweep", jprom_rom_sweep(PICK_MODEL(), PICK_BASIS(), chance(90) ? (int)below(2) : (int)rnd(), &o, &so, rcallback(), NULL, &w));
-        if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) ADOPT(sweeps, jprom_sweep_free, w);
+        if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) ADOPT(sweeps, jprom_sweep_result_free, w);
     } else if (k < 323) { /* self-correcting sweep */
         jprom_hbm_options o = hbm_opts(0);
         jprom_sweep_options so = sweep_opts();
@@ -413,7 +413,7 @@ static void one_call(void) {
         st = seen("jprom_rom_sweep_adaptive", jprom_rom_sweep_adaptive(PICK_MODEL(), chance(90) ? (int)below(2) : (int)rnd(), &o, &so, &jo, rcallback(), NULL,
                                                                          chance(98) ? &w : NULL, chance(50) ? &b : NULL));
         if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) {
-            ADOPT(sweeps, jprom_sweep_free, w);
+            ADOPT(sweeps, jprom_sweep_result_free, w);
             if (b) ADOPT(bases, jprom_basis_free, b);
         }
     } else if (k < 330) { /* actual error */
@@ -429,25 +429,25 @@ static void one_call(void) {
         size_t out, out2;
         int iout;
         switch (below(14)) {
-        case 0: seen("jprom_sweep_n_points", jprom_sweep_n_points(w, chance(95) ? &out : NULL)); break;
-        case 1: seen("jprom_sweep_reached_end", jprom_sweep_reached_end(w, chance(95) ? &iout : NULL)); break;
+        case 0: seen("jprom_sweep_result_n_points", jprom_sweep_result_n_points(w, chance(95) ? &out : NULL)); break;
+        case 1: seen("jprom_sweep_result_reached_end", jprom_sweep_result_reached_end(w, chance(95) ? &iout : NULL)); break;
         case 2: { char text[64]; size_t l = chance(80) ? below(64) : 0;
-                  seen("jprom_sweep_failure_copy", jprom_sweep_failure_copy(w, chance(90) ? text : NULL, l, chance(50) ? &out : NULL)); break; }
+                  seen("jprom_sweep_result_failure_copy", jprom_sweep_result_failure_copy(w, chance(90) ? text : NULL, l, chance(50) ? &out : NULL)); break; }
         case 3: s = NULL;
-                if (seen("jprom_sweep_point", jprom_sweep_point(w, idx, chance(95) ? &s : NULL)) == JPROM_OK) ADOPT(solutions, jprom_solution_free, s);
+                if (seen("jprom_sweep_result_point", jprom_sweep_result_point(w, idx, chance(95) ? &s : NULL)) == JPROM_OK) ADOPT(solutions, jprom_solution_free, s);
                 break;
-        case 4: seen("jprom_sweep_point_omega", jprom_sweep_point_omega(w, idx, chance(95) ? &x : NULL)); break;
-        case 5: seen("jprom_sweep_point_amplitude", jprom_sweep_point_amplitude(w, idx, h, j, chance(95) ? &x : NULL)); break;
-        case 6: seen("jprom_sweep_point_output_coeffs", jprom_sweep_point_output_coeffs(w, idx, dbuf_for(len), len)); break;
-        case 7: seen("jprom_sweep_point_dissipated_energy", jprom_sweep_point_dissipated_energy(w, idx, dbuf_for(len), len)); break;
-        case 8: seen("jprom_sweep_point_convergence", jprom_sweep_point_convergence(w, idx, chance(50) ? &out : NULL, chance(50) ? &x : NULL)); break;
-        case 9: seen("jprom_sweep_point_predicted_error", jprom_sweep_point_predicted_error(w, idx, h, chance(95) ? &x : NULL)); break;
-        case 10: seen("jprom_sweep_n_corrections", jprom_sweep_n_corrections(w, chance(95) ? &out : NULL)); break;
+        case 4: seen("jprom_sweep_result_point_omega", jprom_sweep_result_point_omega(w, idx, chance(95) ? &x : NULL)); break;
+        case 5: seen("jprom_sweep_result_point_amplitude", jprom_sweep_result_point_amplitude(w, idx, h, j, chance(95) ? &x : NULL)); break;
+        case 6: seen("jprom_sweep_result_point_output_coeffs", jprom_sweep_result_point_output_coeffs(w, idx, dbuf_for(len), len)); break;
+        case 7: seen("jprom_sweep_result_point_dissipated_energy", jprom_sweep_result_point_dissipated_energy(w, idx, dbuf_for(len), len)); break;
+        case 8: seen("jprom_sweep_result_point_convergence", jprom_sweep_result_point_convergence(w, idx, chance(50) ? &out : NULL, chance(50) ? &x : NULL)); break;
+        case 9: seen("jprom_sweep_result_point_predicted_error", jprom_sweep_result_point_predicted_error(w, idx, h, chance(95) ? &x : NULL)); break;
+        case 10: seen("jprom_sweep_result_n_corrections", jprom_sweep_result_n_corrections(w, chance(95) ? &out : NULL)); break;
         case 11: { int kind; double v, b1, b2;
-                   seen("jprom_sweep_correction", jprom_sweep_correction(w, chance(80) ? below(3) : rsize(), chance(50) ? &kind : NULL, chance(50) ? &v : NULL,
+                   seen("jprom_sweep_result_correction", jprom_sweep_result_correction(w, chance(80) ? below(3) : rsize(), chance(50) ? &kind : NULL, chance(50) ? &v : NULL,
                                                                         chance(50) ? &b1 : NULL, chance(50) ? &b2 : NULL, len <= 4096 && chance(80) ? zbuf : NULL, len));
                    break; }
-        case 12: seen("jprom_sweep_free", jprom_sweep_free(w));
+        case 12: seen("jprom_sweep_result_free", jprom_sweep_result_free(w));
                  for (size_t i = 0; i < POOL; ++i) if (sweeps[i] == w) { sweeps[i] = NULL; bury(w); }
                  break;
         default: seen("jprom_live_handle_count", jprom_live_handle_count(chance(95) ? &out2 : NULL));
@@ -482,7 +482,7 @@ static void one_call(void) {
         switch (below(4)) {
         case 0: seen("jprom_model_save_json", jprom_model_save_json(PICK_MODEL(), rpath())); break;
         case 1: seen("jprom_solution_save_json", jprom_solution_save_json(PICK_SOLUTION(), rpath())); break;
-        case 2: seen("jprom_sweep_save_json", jprom_sweep_save_json(PICK_SWEEP(), rpath())); break;
+        case 2: seen("jprom_sweep_result_save_json", jprom_sweep_result_save_json(PICK_SWEEP(), rpath())); break;
         default: seen("jprom_basis_save_json", jprom_basis_save_json(PICK_BASIS(), rpath()));
         }
     } else if (k < 790) { /* load */
@@ -490,7 +490,7 @@ static void one_call(void) {
         switch (below(4)) {
         case 0: m = NULL; if (seen("jprom_model_load_json", jprom_model_load_json(p, chance(95) ? &m : NULL)) == JPROM_OK) ADOPT(models, jprom_model_free, m); break;
         case 1: s = NULL; if (seen("jprom_solution_load_json", jprom_solution_load_json(p, chance(95) ? &s : NULL)) == JPROM_OK) ADOPT(solutions, jprom_solution_free, s); break;
-        case 2: w = NULL; if (seen("jprom_sweep_load_json", jprom_sweep_load_json(p, chance(95) ? &w : NULL)) == JPROM_OK) ADOPT(sweeps, jprom_sweep_free, w); break;
+        case 2: w = NULL; if (seen("jprom_sweep_result_load_json", jprom_sweep_result_load_json(p, chance(95) ? &w : NULL)) == JPROM_OK) ADOPT(sweeps, jprom_sweep_result_free, w); break;
         default: b = NULL; if (seen("jprom_basis_load_json", jprom_basis_load_json(p, chance(95) ? &b : NULL)) == JPROM_OK) ADOPT(bases, jprom_basis_free, b);
         }
     } else if (k < 830) {
@@ -534,7 +534,7 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < POOL; ++i) {
         seen("jprom_model_free", jprom_model_free(models[i]));
         seen("jprom_solution_free", jprom_solution_free(solutions[i]));
-        seen("jprom_sweep_free", jprom_sweep_free(sweeps[i]));
+        seen("jprom_sweep_result_free", jprom_sweep_result_free(sweeps[i]));
         seen("jprom_basis_free", jprom_basis_free(bases[i]));
     }
     jprom_set_memory_budget(0);

@@ -90,13 +90,13 @@ int main(void) {
     expect(jprom_model_set_output_dofs(model, dofs, 3), JPROM_OK, "output DoFs");
     expect(jprom_sweep(model, &opts, &sopts, stop_at_third, NULL, &sweep), JPROM_OK, "callback stops the sweep");
     jprom_sweep_end reason = JPROM_SWEEP_REACHED_END;
-    expect(jprom_sweep_end_reason(sweep, &reason), JPROM_OK, "end reason of a cancelled sweep");
+    expect(jprom_sweep_result_end_reason(sweep, &reason), JPROM_OK, "end reason of a cancelled sweep");
     if (reason != JPROM_SWEEP_CANCELLED) { printf("FAIL cancelled sweep's end reason %d\n", (int)reason); failures++; }
     size_t np = 0;
-    expect(jprom_sweep_n_points(sweep, &np), JPROM_OK, "points of a cancelled sweep");
+    expect(jprom_sweep_result_n_points(sweep, &np), JPROM_OK, "points of a cancelled sweep");
     if (np != 3) { printf("FAIL cancelled sweep kept %zu points, expected 3\n", np); failures++; }
     double om;
-    expect(jprom_sweep_point_omega(sweep, 10, &om), JPROM_INVALID_VALUE, "point index out of range");
+    expect(jprom_sweep_result_point_omega(sweep, 10, &om), JPROM_INVALID_VALUE, "point index out of range");
     /* per-point coefficients: size-checked copy, consistent with the amplitude accessor */
     size_t nout = 0;
     jprom_model_n_outputs(model, &nout);
@@ -104,22 +104,22 @@ int main(void) {
     double coeffs[64];
     if (nout == 0 || ncoef > 64) { printf("FAIL unexpected output count %zu\n", nout); failures++; }
     else {
-        expect(jprom_sweep_point_output_coeffs(sweep, 1, coeffs, ncoef - 1), JPROM_BAD_SIZE, "coefficient buffer too small");
-        expect(jprom_sweep_point_output_coeffs(sweep, 1, NULL, ncoef), JPROM_NULL_ARGUMENT, "NULL coefficient buffer");
-        expect(jprom_sweep_point_output_coeffs(sweep, 10, coeffs, ncoef), JPROM_INVALID_VALUE, "coefficients of a point out of range");
-        expect(jprom_sweep_point_output_coeffs(sweep, 1, coeffs, ncoef), JPROM_OK, "coefficients of point 1");
+        expect(jprom_sweep_result_point_output_coeffs(sweep, 1, coeffs, ncoef - 1), JPROM_BAD_SIZE, "coefficient buffer too small");
+        expect(jprom_sweep_result_point_output_coeffs(sweep, 1, NULL, ncoef), JPROM_NULL_ARGUMENT, "NULL coefficient buffer");
+        expect(jprom_sweep_result_point_output_coeffs(sweep, 10, coeffs, ncoef), JPROM_INVALID_VALUE, "coefficients of a point out of range");
+        expect(jprom_sweep_result_point_output_coeffs(sweep, 1, coeffs, ncoef), JPROM_OK, "coefficients of point 1");
         double a = 0.0, c = coeffs[1 * nout + nout - 1], sn = coeffs[2 * nout + nout - 1];
-        jprom_sweep_point_amplitude(sweep, 1, 1, nout - 1, &a);
+        jprom_sweep_result_point_amplitude(sweep, 1, 1, nout - 1, &a);
         if (fabs(a - sqrt(c * c + sn * sn)) > 1e-12 * a || a <= 0.0) { printf("FAIL amplitude %g vs coefficients %g %g\n", a, c, sn); failures++; }
         size_t iters = 0;
         double res = -1.0, energy[1] = {-1.0};
-        expect(jprom_sweep_point_convergence(sweep, 1, &iters, &res), JPROM_OK, "convergence of point 1");
+        expect(jprom_sweep_result_point_convergence(sweep, 1, &iters, &res), JPROM_OK, "convergence of point 1");
         if (!(res >= 0.0 && res < 1e-6)) { printf("FAIL residual %g\n", res); failures++; }
-        expect(jprom_sweep_point_dissipated_energy(sweep, 1, energy, 1), JPROM_OK, "dissipated energy of point 1");
+        expect(jprom_sweep_result_point_dissipated_energy(sweep, 1, energy, 1), JPROM_OK, "dissipated energy of point 1");
         if (!(energy[0] >= 0.0)) { printf("FAIL dissipated energy %g\n", energy[0]); failures++; }
-        expect(jprom_sweep_point_dissipated_energy(sweep, 1, energy, 0), JPROM_BAD_SIZE, "energy buffer too small");
+        expect(jprom_sweep_result_point_dissipated_energy(sweep, 1, energy, 0), JPROM_BAD_SIZE, "energy buffer too small");
     }
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
 
     /* the JP workflow: options, self-correcting sweep, basis from a solution, actual error, on
      * the examples' model (node 0 on springs, node 1 against ground by a friction contact) */
@@ -175,23 +175,23 @@ int main(void) {
     if (basis != NULL || rom != NULL) { printf("FAIL basis or sweep written on failure\n"); failures++; }
     expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, stop_at_third, NULL, &rom, &basis), JPROM_OK, "callback stops the adaptive sweep");
     reason = JPROM_SWEEP_REACHED_END;
-    expect(jprom_sweep_end_reason(rom, &reason), JPROM_OK, "end reason of a cancelled adaptive sweep");
+    expect(jprom_sweep_result_end_reason(rom, &reason), JPROM_OK, "end reason of a cancelled adaptive sweep");
     if (reason != JPROM_SWEEP_CANCELLED) { printf("FAIL cancelled adaptive sweep's end reason %d\n", (int)reason); failures++; }
     np = 0;
-    expect(jprom_sweep_n_points(rom, &np), JPROM_OK, "points of a cancelled adaptive sweep");
+    expect(jprom_sweep_result_n_points(rom, &np), JPROM_OK, "points of a cancelled adaptive sweep");
     if (np != 3 || basis == NULL) { printf("FAIL cancelled adaptive sweep kept %zu points, basis %p\n", np, (void *)basis); failures++; }
     size_t ncorr = 99;
-    expect(jprom_sweep_n_corrections(rom, &ncorr), JPROM_OK, "corrections of a cancelled sweep");
+    expect(jprom_sweep_result_n_corrections(rom, &ncorr), JPROM_OK, "corrections of a cancelled sweep");
     if (ncorr != 0) { printf("FAIL %zu corrections after a cancelled first pass\n", ncorr); failures++; }
-    expect(jprom_sweep_n_corrections(NULL, &ncorr), JPROM_NULL_ARGUMENT, "corrections of a NULL sweep");
+    expect(jprom_sweep_result_n_corrections(NULL, &ncorr), JPROM_NULL_ARGUMENT, "corrections of a NULL sweep");
     int ckind = -1;
-    expect(jprom_sweep_correction(rom, 0, &ckind, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_VALUE, "correction index out of range");
+    expect(jprom_sweep_result_correction(rom, 0, &ckind, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_VALUE, "correction index out of range");
     if (ckind != -1) { printf("FAIL correction kind written on failure\n"); failures++; }
-    expect(jprom_sweep_correction((const jprom_sweep_result *)jm, 0, NULL, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_HANDLE, "a model passed as a sweep");
+    expect(jprom_sweep_result_correction((const jprom_sweep_result *)jm, 0, NULL, NULL, NULL, NULL, NULL, 0), JPROM_INVALID_HANDLE, "a model passed as a sweep");
 
     jprom_solution *fo = NULL, *fo_other = NULL, *red = NULL;
     expect(jprom_solve_point(jm, 60.0, &opts, &fo), JPROM_OK, "full-order point at the first reduced omega");
-    expect(jprom_sweep_point(rom, 0, &red), JPROM_OK, "reduced point 0");
+    expect(jprom_sweep_result_point(rom, 0, &red), JPROM_OK, "reduced point 0");
     jprom_basis *own = NULL;
     expect(jprom_basis_from_solution(jm, NULL, &opts, &jo, 60.0, 160.0, &own), JPROM_NULL_ARGUMENT, "basis from a NULL solution");
     expect(jprom_basis_from_solution(jm, (const jprom_solution *)rom, &opts, &jo, 60.0, 160.0, &own), JPROM_INVALID_HANDLE, "a sweep passed as a solution");
@@ -220,7 +220,7 @@ int main(void) {
     jprom_solution_free(red);
     jprom_basis_free(own);
     jprom_basis_free(basis);
-    jprom_sweep_free(rom);
+    jprom_sweep_result_free(rom);
     jprom_model_free(jm);
 
     expect(jprom_model_load_json("/nonexistent/dir/model.json", &model), JPROM_IO, "load from a missing file");

@@ -60,19 +60,19 @@ int main(int argc, char **argv) {
     TRY(jprom_rom_sweep_adaptive(model, JPROM_ROM_NLR, &opts, &band, &jo, NULL, NULL, &sweep, NULL));
     size_t n = 0, n_corr = 0;
     jprom_sweep_end reason;
-    TRY(jprom_sweep_n_points(sweep, &n));
-    TRY(jprom_sweep_n_corrections(sweep, &n_corr));
-    TRY(jprom_sweep_end_reason(sweep, &reason));
+    TRY(jprom_sweep_result_n_points(sweep, &n));
+    TRY(jprom_sweep_result_n_corrections(sweep, &n_corr));
+    TRY(jprom_sweep_result_end_reason(sweep, &reason));
     printf("# FE %zu DoFs, %zu tip contacts, reduced to %zu DoFs; %zu points, %zu corrections, end %s\n", n_dof, n_tip, n_red, n, n_corr,
            jprom_sweep_end_name((int)reason));
     for (size_t i = 0; i < n; ++i) {
         double w, x1, e1;
-        TRY(jprom_sweep_point_omega(sweep, i, &w));
-        TRY(jprom_sweep_point_amplitude(sweep, i, 1, 0, &x1));
-        TRY(jprom_sweep_point_predicted_error(sweep, i, 1, &e1));
+        TRY(jprom_sweep_result_point_omega(sweep, i, &w));
+        TRY(jprom_sweep_result_point_amplitude(sweep, i, 1, 0, &x1));
+        TRY(jprom_sweep_result_point_predicted_error(sweep, i, 1, &e1));
         printf("%.17e %.17e %.17e\n", w, x1, e1);
     }
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     jprom_model_free(model);
     return 0;
 }

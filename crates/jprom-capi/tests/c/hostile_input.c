@@ -177,20 +177,20 @@ int main(int argc, char **argv) {
         expect(jprom_rom_sweep(linear, basis, JPROM_ROM_FR, &opts, &band, NULL, NULL, &sweep), JPROM_OK, "FR sweep without contacts", NULL);
         double e = -1.0;
         if (sweep) {
-            expect(jprom_sweep_point_predicted_error(sweep, 0, 1, &e), JPROM_OK, "e*_1 without contacts", NULL);
+            expect(jprom_sweep_result_point_predicted_error(sweep, 0, 1, &e), JPROM_OK, "e*_1 without contacts", NULL);
             check(e == 0.0, "e*_1 is 0 without contact forces");
         }
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         sweep = NULL;
         /* NLR condenses onto the contacts: without any it is refused, as documented */
         expect(jprom_rom_sweep(linear, basis, JPROM_ROM_NLR, &opts, &band, NULL, NULL, &sweep), JPROM_INVALID_VALUE, "NLR sweep without contacts", "no contact");
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         sweep = NULL;
         jprom_basis_free(basis);
         basis = NULL;
     }
     expect(jprom_rom_sweep_adaptive(linear, JPROM_ROM_FR, &opts, &band, &jp, NULL, NULL, &sweep, &basis), JPROM_OK, "adaptive FR sweep without contacts", NULL);
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     jprom_basis_free(basis);
     sweep = NULL;
     basis = NULL;
@@ -202,7 +202,7 @@ int main(int argc, char **argv) {
     check(nested > 0, "the nested calls failed as they should");
     size_t live_before = 0, live_after = 0;
     jprom_live_handle_count(&live_before);
-    expect(jprom_sweep_point(sweep, 0, NULL), JPROM_NULL_ARGUMENT, "sweep_point into NULL", "'out'");
+    expect(jprom_sweep_result_point(sweep, 0, NULL), JPROM_NULL_ARGUMENT, "sweep_point into NULL", "'out'");
     jprom_live_handle_count(&live_after);
     check(live_after == live_before, "a refused sweep_point leaks no handle");
 
@@ -213,14 +213,14 @@ int main(int argc, char **argv) {
     jprom_basis *b2 = NULL;
     jprom_model *m2 = NULL;
     expect(jprom_solution_load_json(dir, &s2), JPROM_IO, "solution_load_json of a directory", "is a directory");
-    expect(jprom_sweep_load_json(dir, &w2), JPROM_IO, "sweep_load_json of a directory", "is a directory");
+    expect(jprom_sweep_result_load_json(dir, &w2), JPROM_IO, "sweep_load_json of a directory", "is a directory");
     expect(jprom_basis_load_json(dir, &b2), JPROM_IO, "basis_load_json of a directory", "is a directory");
     snprintf(path, sizeof path, "%s/hostile_sweep.json", dir);
-    expect(jprom_sweep_save_json(sweep, path), JPROM_OK, "save a sweep", NULL);
+    expect(jprom_sweep_result_save_json(sweep, path), JPROM_OK, "save a sweep", NULL);
     expect(jprom_model_load_json(path, &m2), JPROM_IO, "a sweep file loaded as a model", "this is a jprom sweep file, expected a model");
     expect(jprom_basis_load_json(path, &b2), JPROM_IO, "a sweep file loaded as a basis", "this is a jprom sweep file, expected a basis");
-    expect(jprom_sweep_load_json(path, &w2), JPROM_OK, "the sweep file loaded as a sweep", NULL);
-    jprom_sweep_free(w2);
+    expect(jprom_sweep_result_load_json(path, &w2), JPROM_OK, "the sweep file loaded as a sweep", NULL);
+    jprom_sweep_result_free(w2);
     snprintf(path, sizeof path, "%s/hostile_model.json", dir);
     expect(jprom_model_save_json(model, path), JPROM_OK, "save a model", NULL);
     expect(jprom_solution_load_json(path, &s2), JPROM_IO, "a model file loaded as a solution", "this is a jprom model file, expected a solution");
@@ -228,8 +228,8 @@ int main(int argc, char **argv) {
 
     /* writes to a full device: every one is reported, small files included */
     expect(jprom_model_save_json(model, "/dev/full"), JPROM_IO, "model_save_json to /dev/full", "No space left");
-    expect(jprom_sweep_save_json(sweep, "/dev/full"), JPROM_IO, "sweep_save_json to /dev/full", "No space left");
-    expect(jprom_sweep_point(sweep, 0, &sol), JPROM_OK, "a point of the sweep", NULL);
+    expect(jprom_sweep_result_save_json(sweep, "/dev/full"), JPROM_IO, "sweep_save_json to /dev/full", "No space left");
+    expect(jprom_sweep_result_point(sweep, 0, &sol), JPROM_OK, "a point of the sweep", NULL);
     expect(jprom_solution_save_json(sol, "/dev/full"), JPROM_IO, "solution_save_json to /dev/full", "No space left");
     expect(jprom_basis_predict_opts(model, &opts, &jp, 60.0, 160.0, &basis), JPROM_OK, "predict a basis", NULL);
     expect(jprom_basis_save_json(basis, "/dev/full"), JPROM_IO, "basis_save_json to /dev/full", "No space left");
@@ -257,7 +257,7 @@ int main(int argc, char **argv) {
 
     jprom_solution_free(sol);
     jprom_basis_free(basis);
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     jprom_model_free(model);
     size_t live = 99;
     jprom_live_handle_count(&live);

@@ -29,16 +29,16 @@ static int sweep_end(jprom_model *model, size_t iterations) {
     char text[512];
     size_t written = 0;
     int reached = -1;
-    if (jprom_sweep_end_reason(sweep, &reason) != JPROM_OK || jprom_sweep_reached_end(sweep, &reached) != JPROM_OK
-        || jprom_sweep_failure_copy(sweep, text, sizeof text, &written) != JPROM_OK) {
+    if (jprom_sweep_result_end_reason(sweep, &reason) != JPROM_OK || jprom_sweep_result_reached_end(sweep, &reached) != JPROM_OK
+        || jprom_sweep_result_failure_copy(sweep, text, sizeof text, &written) != JPROM_OK) {
         fprintf(stderr, "accessors: %s\n", jprom_last_error_message());
-        jprom_sweep_free(sweep);
+        jprom_sweep_result_free(sweep);
         return -1;
     }
     printf("end %s: %s\n", jprom_sweep_end_name((int)reason), text);
     /* the reason agrees with reached_end, and an early end has its words */
     int consistent = (reason == JPROM_SWEEP_REACHED_END) == (reached == 1) && (reason == JPROM_SWEEP_REACHED_END) == (written == 0);
-    jprom_sweep_free(sweep);
+    jprom_sweep_result_free(sweep);
     return consistent ? (int)reason : -1;
 }
 

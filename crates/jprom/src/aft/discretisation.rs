@@ -39,7 +39,7 @@ impl Default for Discretisation {
 impl From<usize> for Discretisation {
     /// `H = harmonics` with the default `Nt`.
     fn from(harmonics: usize) -> Self {
-        Discretisation { harmonics, nt: None }
+        Discretisation::new(harmonics)
     }
 }
 
@@ -78,12 +78,12 @@ impl Discretisation {
         Ok(())
     }
 
-    /// The AFT plan of this discretisation (checked as [`Discretisation::validate`]).
+    /// The AFT plan of this discretisation (checked as [`Discretisation::validate`], by
+    /// [`AftPlan::new`]).
     ///
     /// # Errors
     /// As [`Discretisation::validate`].
     pub fn plan(&self) -> Result<AftPlan> {
-        self.validate()?;
         AftPlan::new(self.harmonics, self.nt())
     }
 }

@@ -107,7 +107,8 @@ impl AftPlan {
     /// with [`AftBackend::Auto`].
     ///
     /// # Errors
-    /// [`JpError::InvalidValue`] if `H = 0` or `nt` is not a power of two `>= 4 (H + 1)`.
+    /// As [`Discretisation::validate`]: [`JpError::InvalidValue`] if `H = 0` or `nt` is not a
+    /// power of two `>= 4 (H + 1)`, [`JpError::OverLimit`] above jprom's caps.
     pub fn new(harmonics: usize, nt: usize) -> Result<Self> {
         Self::with_backend(harmonics, nt, AftBackend::Auto)
     }
@@ -117,16 +118,8 @@ impl AftPlan {
     /// # Errors
     /// As [`AftPlan::new`].
     pub fn with_backend(harmonics: usize, nt: usize, backend: AftBackend) -> Result<Self> {
-        if harmonics == 0 {
-            return Err(JpError::invalid("aft.harmonics", "must be >= 1"));
-        }
-        let min_nt = 4 * (harmonics + 1);
-        if !nt.is_power_of_two() || nt < min_nt {
-            return Err(JpError::invalid(
-                "aft.nt",
-                format!("must be a power of two >= 4 (H + 1) = {min_nt}, got {nt}"),
-            ));
-        }
+        // one owner of the checks (and the caps, before the tables are sized by them)
+        Discretisation::with_nt(harmonics, nt).validate()?;
         Ok(AftPlan { harmonics, nt, fourier: Fourier::new(harmonics, nt, backend) })
     }
     /// `H`.

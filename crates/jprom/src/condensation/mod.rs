@@ -26,6 +26,20 @@ use crate::model::{ContactCoordinates, Model};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
+/// Estimated bytes of a condensed system of `n` DoFs, `n_w` of them contact coordinates, at
+/// `H = harmonics`, beyond its coordinates: the static `K_LL` and its LU, one harmonic's complex
+/// `D_LL`, its LU and right-hand sides at a frequency, and the Newton Jacobian on
+/// `(2H + 1) n_w` unknowns with its LU.
+pub fn working_set_bytes(n: usize, n_w: usize, harmonics: usize) -> u128 {
+    use crate::memory::{bytes_of, product};
+    let nl = n.saturating_sub(n_w);
+    let unknowns = (2 * harmonics + 1).saturating_mul(n_w);
+    bytes_of::<f64>(product(&[2, nl, nl]))
+        .saturating_add(bytes_of::<c64>(product(&[2, nl, nl])))
+        .saturating_add(bytes_of::<c64>(product(&[3, nl, n_w + 1])))
+        .saturating_add(bytes_of::<f64>(product(&[2, unknowns, unknowns])))
+}
+
 /// The condensed full-order system on the contact coordinates.
 #[derive(Clone, Debug)]
 pub struct CondensedSystem {
@@ -54,13 +68,17 @@ impl CondensedSystem {
     /// (nothing to condense onto) or bad options; [`JpError::SingularMatrix`] if `K_LL` is
     /// singular (the structure is not held when its contact nodes are fixed).
     pub fn new(model: &Model, discretisation: impl Into<Discretisation>) -> Result<Self> {
-        let discretisation = discretisation.into();
-        discretisation.validate()?;
         if model.contacts.is_empty() {
             return Err(JpError::invalid("CondensedSystem", "the model has no contact to condense onto"));
         }
-        let coords = ContactCoordinates::new(model, discretisation)?;
+        // the coordinates check the discretisation
+        let coords = ContactCoordinates::new(model, discretisation.into())?;
         let (n, nw) = (coords.n_dof, coords.n_w);
+        let hh = coords.discretisation.harmonics;
+        crate::memory::check(
+            &format!("the condensed system at H = {hh} ({nw} contact coordinates, {} linear DoFs)", n - nw),
+            working_set_bytes(n, nw, hh),
+        )?;
         let nl = n - nw;
         let k = &coords.stiffness;
         let (h0, g0) = if nl == 0 {
@@ -85,7 +103,7 @@ impl CondensedSystem {
                 .collect();
             (h0, g0)
         };
-        let layout = HarmonicLayout::uniform(discretisation.harmonics, nw);
+        let layout = HarmonicLayout::uniform(coords.discretisation.harmonics, nw);
         Ok(CondensedSystem { coords, layout, h0, g0 })
     }
 

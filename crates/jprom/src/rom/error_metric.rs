@@ -105,10 +105,15 @@ fn split(w: &[f64], n_w: usize, n_coeffs: usize) -> Vec<Vec<f64>> {
 /// # Errors
 /// Size errors from the model.
 pub fn predicted_error(rom: &dyn ReducedModel, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+    predicted_error_with(rom, &rom.discretisation().plan()?, omega, z)
+}
+
+/// [`predicted_error`] with the ROM's AFT plan made once by the caller (a sweep's points).
+pub(crate) fn predicted_error_with(rom: &dyn ReducedModel, plan: &AftPlan, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
     let hh = rom.layout().harmonics;
     let nw = rom.n_contact_coords();
     let w = reduced_contact_displacement(rom, omega, z)?;
-    let forces = contact_forces(rom, &w, false)?;
+    let forces = contact_forces_with(rom, plan, &w, false)?;
     let f_rom = split(&forces.force, nw, 2 * hh + 1);
     let mut defect = rom.implied_contact_force(omega, z)?;
     // Contact rows only (see the module doc).

@@ -61,7 +61,8 @@ pub fn sweep_with_predicted_error(
     on_point: &mut dyn FnMut(&PointSolution) -> ControlFlow<()>,
 ) -> Result<(SweepResult, Vec<Vec<f64>>)> {
     let result = sweep(rom, sopts, hopts, on_point)?;
-    let errors = result.points.iter().map(|p| error_metric::predicted_error(rom, p.omega, &p.z)).collect::<Result<Vec<_>>>()?;
+    let plan = rom.discretisation().plan()?;
+    let errors = result.points.iter().map(|p| error_metric::predicted_error_with(rom, &plan, p.omega, &p.z)).collect::<Result<Vec<_>>>()?;
     Ok((result, errors))
 }
 
