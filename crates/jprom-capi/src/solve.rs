@@ -235,19 +235,9 @@ pub(crate) unsafe fn sweep_options(p: *const jprom_sweep_options) -> Result<Swee
     Ok(s)
 }
 
-/// Refuses a solve whose dense Jacobian alone (`(2H + 1) n` unknowns squared, `n` the model's
-/// DoFs, or its contact coordinates when condensed) would exceed the memory budget.
-fn check_system_memory(model: &jprom_model, disc: &Discretisation, condensed: c_int) -> Result<(), FfiError> {
-    let m = &model.model;
-    let n = if condensed != 0 { m.contacts.iter().map(|c| c.dim()).sum() } else { m.n_dof() };
-    let unknowns = jprom::memory::product(&[2 * disc.harmonics + 1, n]);
-    let what = format!("the harmonic-balance Jacobian ({unknowns} unknowns at H = {})", disc.harmonics);
-    jprom::memory::check(&what, jprom::memory::bytes_of::<f64>(unknowns.saturating_mul(unknowns)))?;
-    Ok(())
-}
-
+/// The system of `model` (condensed onto its contacts or full-order); each refuses, with its
+/// estimate, a size beyond the memory budget before allocating it.
 fn system(model: &jprom_model, disc: Discretisation, condensed: c_int) -> Result<Box<dyn HarmonicSystem>, FfiError> {
-    check_system_memory(model, &disc, condensed)?;
     Ok(if condensed != 0 {
         Box::new(CondensedSystem::new(&model.model, disc)?)
     } else {

@@ -1,8 +1,16 @@
 //! The memory budget through the Rust API (one test: the budget is process-wide): a request
 //! estimated beyond it is refused with the estimate and the budget, before anything is
-//! allocated, and the default comes back when it is reset.
+//! allocated, and the default comes back when it is reset. Covered: file reads, Matrix Market
+//! sizes, and the stages that size dense matrices by the model (contact coordinates, the
+//! condensed system, the JP prediction and one pattern's JP modes, Craig-Bampton).
 
+use jprom::condensation::CondensedSystem;
+use jprom::fe::{BladeParams, BuiltinBlade, CbOptions, CraigBampton};
 use jprom::io::matrix_market::parse_matrix_market;
+use jprom::jp::{jp_modes, predict_basis, ContactJacobian, ModeOptions, PredictionOptions};
+use jprom::memory::human_bytes;
+use jprom::model::ContactCoordinates;
+use jprom_testkit::chain::{chain_model, ChainOptions};
 use jprom::memory::MemoryBudget;
 use jprom::JpError;
 
@@ -26,6 +34,58 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     // a model loaded from a small file is within it
     std::fs::write(&p, "{}").unwrap();
     assert!(!matches!(jprom::io::read_text(&p), Err(JpError::TooLarge { .. })));
+
+    // the stages that size dense matrices by the model: each refuses with its estimate
+    let model = chain_model(&ChainOptions { n_nodes: 100, ..ChainOptions::default() });
+    let e = ContactCoordinates::new(&model, 1).unwrap_err();
+    let need = jprom::model::contact_coordinates::working_set_bytes(300);
+    assert_eq!(need, 4 * 300 * 300 * 8);
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == need), "{e:?}");
+    assert!(e.to_string().contains("the contact coordinates of a model of 300 DoFs") && e.to_string().contains("it needs about 2.7 MiB"), "{e}");
+
+    // a budget that holds the coordinates of a 180-DoF chain but not its condensed system at
+    // H = 3 nor one JP pattern
+    let small = chain_model(&ChainOptions { n_nodes: 60, ..ChainOptions::default() });
+    let coords_need = jprom::model::contact_coordinates::working_set_bytes(180);
+    MemoryBudget::set_global(Some(MemoryBudget::new(coords_need as usize + 1000)));
+    let coords = ContactCoordinates::new(&small, 3).unwrap();
+    let nw = coords.n_w;
+    let condensed_need = jprom::condensation::working_set_bytes(180, nw, 3);
+    assert!(condensed_need > coords_need + 1000, "{condensed_need} vs {coords_need}");
+    let e = CondensedSystem::new(&small, 3).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == condensed_need), "{e:?}");
+    assert!(e.to_string().contains(&format!("the condensed system at H = 3 ({nw} contact coordinates, {} linear DoFs)", 180 - nw)), "{e}");
+    let pattern = jprom::jp::modes::pattern_working_set_bytes(180, nw, 3);
+    assert!(pattern > (coords_need + 1000) as f64);
+    let band = (10.0, 20.0);
+    let e = predict_basis(&coords, &PredictionOptions::new(band)).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { .. }), "{e:?}");
+    let text = e.to_string();
+    assert!(text.contains("the JP prediction at H = 3 (n = 180 DoFs") && text.contains(&human_bytes(pattern as u128)), "{text}");
+    // one pattern's JP modes alone (a corrected or a solution's basis) is refused as well
+    let k_hat = ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, 3).unwrap();
+    let e = jp_modes(&coords, &k_hat, &ModeOptions::in_band(band)).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { .. }) && e.to_string().contains("the JP modes of one contact pattern at H = 3"), "{e}");
+    // Craig-Bampton: its dense parts (the constraint modes dominate with many boundary DoFs)
+    let blade = BuiltinBlade::build(&BladeParams { n_span: 18, n_chord: 4, n_thickness: 2, n_shroud_gap: 2, ..Default::default() }).unwrap();
+    let n = blade.n_dof();
+    let boundary: Vec<usize> = (0..90).collect();
+    let opts = CbOptions { n_modes: 20, ..CbOptions::default() };
+    let need = jprom::fe::craig_bampton::working_set_bytes(n - 90, 90, 20, false, true);
+    assert!(need > (coords_need + 1000) && need < 1 << 26, "{need}");
+    let e = CraigBampton::reduce(&blade.stiffness, &blade.mass, &boundary, opts).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == need), "{e:?}");
+    assert!(e.to_string().contains(&format!("the Craig-Bampton reduction ({} interior and 90 boundary DoFs, up to 20 fixed-interface modes, constraint modes kept", n - 90)), "{e}");
+    // without the constraint modes the estimate is smaller by n_i x n_b values
+    let lean = jprom::fe::craig_bampton::working_set_bytes(n - 90, 90, 20, false, false);
+    assert_eq!(need - lean, 8 * ((n - 90) * 90) as u128);
+
+    // with the default budget every stage runs
+    MemoryBudget::set_global(None);
+    assert!(CondensedSystem::new(&small, 3).is_ok());
+    let tiny = ContactCoordinates::new(&chain_model(&ChainOptions::default()), 3).unwrap();
+    let k_tiny = ContactJacobian::stuck(&tiny.laws, &tiny.offsets, tiny.n_w, 3).unwrap();
+    assert!(jp_modes(&tiny, &k_tiny, &ModeOptions::in_band(band)).is_ok());
 
     MemoryBudget::set_global(None);
     assert_eq!(MemoryBudget::global(), default);

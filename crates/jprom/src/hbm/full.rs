@@ -106,6 +106,14 @@ impl FullSystem {
                 (parts.k.len() as f64 <= SPARSE_MAX_FILL * n * n).then_some(parts)
             }
         };
+        if sparse.is_none() {
+            // the dense Newton Jacobian on (2H + 1) n unknowns and its LU
+            let unknowns = layout.total();
+            crate::memory::check(
+                &format!("the dense harmonic-balance Jacobian of the full-order system ({unknowns} unknowns at H = {})", layout.harmonics),
+                crate::memory::bytes_of::<f64>(crate::memory::product(&[2, unknowns, unknowns])),
+            )?;
+        }
         Ok(FullSystem { coords, layout, sparse })
     }
 

@@ -24,20 +24,13 @@ use crate::linalg::norm2;
 use crate::model::ContactCoordinates;
 use faer::Mat;
 use rayon::prelude::*;
+use super::modes::pattern_working_set_bytes;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 
 /// Largest estimated working set of one pattern's JP-mode solve ([`pattern_working_set_bytes`])
 /// for which [`predict_basis`] solves the patterns in parallel.
 pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
-
-/// Estimated bytes of the dense matrices of one pattern's JP-mode solve: `K̂`
-/// (`((2H + 1) n_w)^2`), the shifted condensed matrix and its LU (`2 (2 H n)^2`), and the
-/// `n`-square static condensation blocks.
-pub fn pattern_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> f64 {
-    let f = |x: usize| x as f64;
-    8.0 * (f((2 * harmonics + 1) * nw).powi(2) + 2.0 * f(2 * harmonics * n).powi(2) + 3.0 * f(n).powi(2))
-}
 
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
 pub const GIVEN_SHAPE_P_MAX: f64 = 1.25;
@@ -264,6 +257,13 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     if opts.n_samples == 0 {
         return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
     }
+    // the patterns' dense matrices, as many at once as run in parallel
+    let per_pattern = pattern_working_set_bytes(n, nw, hh);
+    let at_once = if per_pattern <= PARALLEL_PATTERNS_MAX_BYTES { rayon::current_num_threads().min(opts.n_samples).max(1) } else { 1 };
+    crate::memory::check(
+        &format!("the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {at_once} contact pattern(s) at once, {} each)", crate::memory::human_bytes(per_pattern as u128)),
+        (per_pattern * at_once as f64).min(u128::MAX as f64) as u128,
+    )?;
     let q_static = static_solution(coords)?;
     let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
         GeneratingShape::StuckMode => {
@@ -337,7 +337,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     };
     // Patterns in parallel while their working sets are small; one at a time (each solve
     // parallel inside) once a pattern's dense matrices reach `PARALLEL_PATTERNS_MAX_BYTES`.
-    let modes: Vec<JpModes> = if pattern_working_set_bytes(n, nw, hh) <= PARALLEL_PATTERNS_MAX_BYTES {
+    let modes: Vec<JpModes> = if per_pattern <= PARALLEL_PATTERNS_MAX_BYTES {
         chosen.par_iter().map(modes_of).collect::<Result<_>>()?
     } else {
         chosen.iter().map(modes_of).collect::<Result<_>>()?

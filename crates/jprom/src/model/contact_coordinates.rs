@@ -96,8 +96,9 @@ impl ContactCoordinates {
         let discretisation = discretisation.into();
         discretisation.validate()?;
         let harmonics = discretisation.harmonics;
-        model.validate()?;
         let n = model.n_dof();
+        crate::memory::check(&format!("the contact coordinates of a model of {n} DoFs (dense M, K, C and the transformation, {n} x {n} each)"), working_set_bytes(n))?;
+        model.validate()?;
         let groups = ContactGroups::new(&model.contacts, n)?;
         let mut offsets = Vec::with_capacity(groups.groups.len());
         let mut n_w = 0;
@@ -404,4 +405,10 @@ impl ContactTopology {
         self.groups.push(vec![i]);
         Ok(())
     }
+}
+
+/// Estimated bytes of [`ContactCoordinates::new`] for a model of `n` DoFs: four dense
+/// `n x n` matrices (`M`, `K`, `C` in z-coordinates and the transformation).
+pub fn working_set_bytes(n: usize) -> u128 {
+    crate::memory::bytes_of::<f64>(crate::memory::product(&[4, n, n]))
 }
