@@ -10,7 +10,8 @@ use jprom::io::matrix_market::parse_matrix_market;
 use jprom::jp::{jp_modes, predict_basis, ContactJacobian, ModeOptions, PredictionOptions};
 use jprom::memory::human_bytes;
 use jprom::model::ContactCoordinates;
-use jprom_testkit::chain::{chain_model, ChainOptions};
+use jprom::jp::prediction::patterns_at_once;
+use jprom_testkit::chain::{chain_model, linear_modes, stuck_stiffness_physical, ChainOptions};
 use jprom::memory::MemoryBudget;
 use jprom::JpError;
 
@@ -80,7 +81,33 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     let lean = jprom::fe::craig_bampton::working_set_bytes(n - 90, 90, 20, false, false);
     assert_eq!(need - lean, 8 * ((n - 90) * 90) as u128);
 
+    // the prediction solves as many patterns at once as fit: a budget of one and a half patterns
+    // runs them one at a time (it refused before, asking for a pattern per thread), and a
+    // budget below one pattern refuses
+    let chain = chain_model(&ChainOptions::default());
+    let chain_coords = ContactCoordinates::new(&chain, 1).unwrap();
+    let (n, nw) = (chain_coords.n_dof, chain_coords.n_w);
+    let one = jprom::jp::modes::pattern_working_set_bytes(n, nw, 1);
+    assert_eq!(patterns_at_once(one, (1.5 * one) as usize, 100), 1);
+    assert_eq!(patterns_at_once(one, usize::MAX, 100), rayon::current_num_threads().min(100));
+    assert_eq!(patterns_at_once(one, usize::MAX, 1), 1);
+    assert_eq!(patterns_at_once(6e8, usize::MAX, 100), 1, "large patterns are solved one at a time");
+    let (freqs, _) = linear_modes(&stuck_stiffness_physical(&chain), &chain.mass);
+    let chain_band = (0.9 * freqs[0], 1.1 * freqs[0]);
+    let mut popts = PredictionOptions::new(chain_band);
+    popts.n_samples = 20;
+    MemoryBudget::set_global(Some(MemoryBudget::new((1.5 * one) as usize)));
+    let (basis, report) = predict_basis(&chain_coords, &popts).unwrap();
+    MemoryBudget::set_global(None);
+    let (unbounded, _) = predict_basis(&chain_coords, &popts).unwrap();
+    assert!(report.n_patterns > 1, "{report:?}");
+    assert_eq!(basis.sizes, unbounded.sizes, "one at a time or in parallel, the same basis");
+    MemoryBudget::set_global(Some(MemoryBudget::new((0.9 * one) as usize)));
+    let e = predict_basis(&chain_coords, &popts).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { .. }) && e.to_string().contains("1 contact pattern(s) at once"), "{e}");
+
     // with the default budget every stage runs
+    MemoryBudget::set_global(None);
     MemoryBudget::set_global(None);
     assert!(CondensedSystem::new(&small, 3).is_ok());
     let tiny = ContactCoordinates::new(&chain_model(&ChainOptions::default()), 3).unwrap();

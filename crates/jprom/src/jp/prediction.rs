@@ -32,6 +32,18 @@ use std::collections::HashSet;
 /// for which [`predict_basis`] solves the patterns in parallel.
 pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
 
+/// How many contact patterns [`predict_basis`] solves at once: in parallel (up to the thread
+/// count and `n_samples`) while one pattern's working set is below
+/// `PARALLEL_PATTERNS_MAX_BYTES` and as many fit in the memory budget; else one at a time
+/// (each solve parallel inside).
+pub fn patterns_at_once(per_pattern_bytes: f64, budget_bytes: usize, n_samples: usize) -> usize {
+    if per_pattern_bytes > PARALLEL_PATTERNS_MAX_BYTES || per_pattern_bytes <= 0.0 {
+        return 1;
+    }
+    let fit = (budget_bytes as f64 / per_pattern_bytes).floor().max(1.0) as usize;
+    rayon::current_num_threads().min(n_samples).min(fit).max(1)
+}
+
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
 pub const GIVEN_SHAPE_P_MAX: f64 = 1.25;
 
@@ -259,7 +271,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     }
     // the patterns' dense matrices, as many at once as run in parallel
     let per_pattern = pattern_working_set_bytes(n, nw, hh);
-    let at_once = if per_pattern <= PARALLEL_PATTERNS_MAX_BYTES { rayon::current_num_threads().min(opts.n_samples).max(1) } else { 1 };
+    let at_once = patterns_at_once(per_pattern, crate::memory::MemoryBudget::global().bytes, opts.n_samples);
     crate::memory::check(
         &format!("the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {at_once} contact pattern(s) at once, {} each)", crate::memory::human_bytes(per_pattern as u128)),
         (per_pattern * at_once as f64).min(u128::MAX as f64) as u128,
@@ -335,12 +347,16 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w)?;
         jp_modes(coords, &kj, &opts.modes)
     };
-    // Patterns in parallel while their working sets are small; one at a time (each solve
-    // parallel inside) once a pattern's dense matrices reach `PARALLEL_PATTERNS_MAX_BYTES`.
-    let modes: Vec<JpModes> = if per_pattern <= PARALLEL_PATTERNS_MAX_BYTES {
+    let modes: Vec<JpModes> = if at_once <= 1 || chosen.len() <= 1 {
+        chosen.iter().map(modes_of).collect::<Result<_>>()?
+    } else if at_once >= rayon::current_num_threads() {
         chosen.par_iter().map(modes_of).collect::<Result<_>>()?
     } else {
-        chosen.iter().map(modes_of).collect::<Result<_>>()?
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(at_once)
+            .build()
+            .map_err(|e| JpError::invalid("JP prediction", format!("could not start {at_once} threads: {e}")))?;
+        pool.install(|| chosen.par_iter().map(modes_of).collect::<Result<_>>())?
     };
     let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?.with_band(opts.modes.band);
     let report = PredictionReport {
