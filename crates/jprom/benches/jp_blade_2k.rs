@@ -19,6 +19,9 @@
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
 //! `JPROM_2K_H` (default 1), `JPROM_2K_STOP=cb` to stop after the Craig-Bampton reduction,
 //! `JPROM_2K_CACHE=dir` to keep the reduced model in `dir` and reuse it on the next run.
+//! The stage table (with the memory budget's estimate of one contact pattern beside the
+//! measured peak) is saved to `target/bench-results/jp_blade_2k_r<refinement>_h<H>.md`; a
+//! prediction the budget refuses ends the run with its row marked "refused".
 
 use jprom_testkit::blade as blade_support;
 mod common;
@@ -29,6 +32,7 @@ use jprom::fe::{BladeParams, BuiltinBlade, CbOptions};
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
+use jprom::jp::modes::pattern_working_set_bytes;
 use jprom::jp::{predict_basis, stuck_mode, PredictionOptions};
 use faer::Mat;
 use jprom::model::{ContactCoordinates, Damping, Model};
@@ -38,6 +42,20 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 const POINTS: usize = 200;
+
+const TABLE_HEAD: &str = "| contacts | FE DoFs | n_w | H | FE build s | CB s | CB peak RSS MB | setup s | basis s | pattern estimate MB | samples / patterns | sizes n_h | FR build s | FR s/point | NLR build s | NLR s/point | FR e*_1 | NLR e*_1 | FR-NLR peak tip diff | peak RSS MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
+
+/// Prints the stage table and saves it to `target/bench-results/jp_blade_2k_r<refinement>_h<H>.md`.
+fn save_table(refinement: usize, h: usize, row: &str) {
+    let text = format!("{TABLE_HEAD}\n{row}\n");
+    println!("{text}");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/bench-results");
+    let path = dir.join(format!("jp_blade_2k_r{refinement}_h{h}.md"));
+    match std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, &text)) {
+        Ok(()) => eprintln!("[stage table saved to {}]", path.display()),
+        Err(e) => eprintln!("[stage table not saved to {}: {e}]", path.display()),
+    }
+}
 
 fn env_usize(name: &str, default: usize) -> usize {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -127,8 +145,19 @@ fn main() {
     let coords = ContactCoordinates::new(&model, h).unwrap();
     let mut popts = PredictionOptions::new(band);
     popts.n_samples = n_samples;
+    // the memory budget's estimate of one pattern (the prediction refuses, with it, what does
+    // not fit: at refinement 15 and H = 3 one pattern is ~50 GB)
+    let pattern_mb = pattern_working_set_bytes(coords.n_dof, coords.n_w, h) / 1e6;
     let t = Instant::now();
-    let (basis, rep) = predict_basis(&coords, &popts).expect("basis");
+    let (basis, rep) = match predict_basis(&coords, &popts) {
+        Ok(b) => b,
+        Err(e) => {
+            stage(&format!("basis refused: {e}"), t);
+            let row = format!("| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | refused | {pattern_mb:.0} | {n_samples} / - | - | - | - | - | - | - | - | - | {:.0} |", coords.n_w, vm_hwm_mb());
+            save_table(refinement, h, &row);
+            return;
+        }
+    };
     let t_basis = stage(&format!("basis: {} samples, {} patterns, sizes {:?}", n_samples, rep.n_patterns, basis.sizes), t);
     let rss_basis = vm_hwm_mb();
 
@@ -157,15 +186,14 @@ fn main() {
         let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
         d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
     };
-    println!("| contacts | FE DoFs | n_w | H | FE build s | CB s | CB peak RSS MB | setup s | basis s | samples / patterns | sizes n_h | FR build s | FR s/point | NLR build s | NLR s/point | FR e*_1 | NLR e*_1 | FR-NLR peak tip diff | peak RSS MB |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    println!(
-        "| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | {t_basis:.1} | {n_samples} / {} | {:?} | {t_fr_build:.1} | {t_fr:.3} | {t_nlr_build:.1} | {t_nlr:.3} | {es_fr:.1e} | {es_nlr:.1e} | {nlr_vs_fr:.1e} | {:.0} (basis stage {rss_basis:.0}) |",
+    let row = format!(
+        "| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | {t_basis:.1} | {pattern_mb:.0} | {n_samples} / {} | {:?} | {t_fr_build:.1} | {t_fr:.3} | {t_nlr_build:.1} | {t_nlr:.3} | {es_fr:.1e} | {es_nlr:.1e} | {nlr_vs_fr:.1e} | {:.0} (basis stage {rss_basis:.0}) |",
         coords.n_w,
         rep.n_patterns,
         basis.sizes,
         vm_hwm_mb(),
     );
+    save_table(refinement, h, &row);
     println!("(resonance {:.2} Hz FR, {:.2} Hz NLR)", pf.omega / (2.0 * PI), pn.omega / (2.0 * PI));
 
     // One full-order point (condensed, dense Jacobian) at the NLR resonance, from the NLR
