@@ -40,14 +40,15 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--quiet]
+  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]
                                  run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
-  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--quiet]
+  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]
                                  run a study file (.toml or .json); --jobs N runs N units
-                                 (a solver at a level of a case) at once in threads, same results
+                                 (a solver at a level of a case) at once in threads, same results;
+                                 --memory-budget SIZE (12G) caps what one stage may take
   jprom check STUDY              validate a study file and the files and nodes it names
                                  (without reading the matrices), print it with its defaults
-  jprom modes STUDY [--count N] [--quiet]
+  jprom modes STUDY [--count N] [--memory-budget SIZE] [--quiet]
                                  natural frequencies of the FE model (lowest N, default 10), of
                                  its Craig-Bampton model with contacts open and stuck (modal
                                  forces, participation; * a stuck mode in the band), the stuck
@@ -72,21 +73,26 @@ const QUIET: (&str, bool, &str) = ("--quiet", false, "no progress on standard er
 const KEEP_PARTIAL: (&str, bool, &str) = ("--keep-partial", false, "exit 0 when a sweep did not cover its band (exit 3 otherwise; results are kept either way)");
 const HELP: (&str, bool, &str) = ("--help, -h", false, "this text");
 const JOBS: (&str, bool, &str) = ("--jobs", true, "N: run N units (a solver at a level of a case) at once, in threads (default 1); the results do not depend on N");
+const MEMORY_BUDGET: (&str, bool, &str) = (
+    "--memory-budget",
+    true,
+    "SIZE: the most a stage (Craig-Bampton, a system, the JP prediction) may take, in bytes or with K, M, G, T (powers of 1024: 12G); default 70 % of the machine's memory. A stage beyond it stops the run with the size it needs",
+);
 
 const COMMANDS: [Command; 4] = [
     Command {
         name: "demo",
-        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--quiet]",
+        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]",
         about: "Runs the built-in shrouded-blade demo (crates/jprom-cli/demo_study.toml): full order, FR and\nNLR sweeps at each level, error predictor, summary table, CSV, JSON and SVG plots.",
         takes_study: false,
-        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, QUIET, HELP],
     },
     Command {
         name: "run",
-        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--quiet]",
+        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]",
         about: "Runs a study file (TOML or JSON): model, Craig-Bampton, sweeps, bases, CSV, JSON and SVG.",
         takes_study: true,
-        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, QUIET, HELP],
     },
     Command {
         name: "check",
@@ -97,10 +103,10 @@ const COMMANDS: [Command; 4] = [
     },
     Command {
         name: "modes",
-        synopsis: "jprom modes STUDY [--count N] [--quiet]",
+        synopsis: "jprom modes STUDY [--count N] [--memory-budget SIZE] [--quiet]",
         about: "Natural frequencies of the FE model (lowest N), of its Craig-Bampton model with the contacts\nopen and stuck (modal forces, participation; * a stuck mode in the band), the stuck mode for\nthe band and a warning if the band holds none.",
         takes_study: true,
-        options: &[("--count", true, "N: how many FE natural frequencies (default 10)"), QUIET, HELP],
+        options: &[("--count", true, "N: how many FE natural frequencies (default 10)"), MEMORY_BUDGET, QUIET, HELP],
     },
 ];
 
@@ -229,6 +235,37 @@ fn count_arg(args: &Parsed) -> Result<usize, Failure> {
     }
 }
 
+/// `--memory-budget SIZE`: bytes, or a number with K, M, G or T (powers of 1024, an optional
+/// `B` or `iB` after it: `12G`, `1.5GiB`, `800M`), more than 0.
+fn memory_budget_arg(args: &Parsed) -> Result<Option<usize>, Failure> {
+    let Some(text) = args.value("--memory-budget") else { return Ok(None) };
+    let bad = || Failure::Usage(format!("--memory-budget needs a size in bytes or with K, M, G, T (for example 12G), got '{text}'"));
+    let lower = text.trim().to_ascii_lowercase();
+    let number = lower.trim_end_matches("ib").trim_end_matches('b');
+    let (digits, scale) = match number.chars().last() {
+        Some('k') => (&number[..number.len() - 1], 1u64 << 10),
+        Some('m') => (&number[..number.len() - 1], 1 << 20),
+        Some('g') => (&number[..number.len() - 1], 1 << 30),
+        Some('t') => (&number[..number.len() - 1], 1 << 40),
+        _ => (number, 1),
+    };
+    let value: f64 = digits.trim().parse().map_err(|_| bad())?;
+    let bytes = value * scale as f64;
+    if !(bytes.is_finite() && bytes >= 1.0 && bytes < usize::MAX as f64) {
+        return Err(bad());
+    }
+    Ok(Some(bytes as usize))
+}
+
+/// A refusal by the memory budget, with the option that raises it.
+fn run_failure(message: String) -> Failure {
+    if message.contains("more than the memory budget") {
+        Failure::Run(format!("{message}; jprom: raise it with --memory-budget SIZE"))
+    } else {
+        Failure::Run(message)
+    }
+}
+
 fn study_from(path: &str) -> Result<Study, Failure> {
     Study::from_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))
 }
@@ -257,6 +294,9 @@ fn main() -> ExitCode {
             let keep_partial = p.flag("--keep-partial");
             let out = p.value("--out").map(PathBuf::from);
             let jobs = jobs_arg(&p)?;
+            if let Some(bytes) = memory_budget_arg(&p)? {
+                jprom::memory::MemoryBudget::set_global(Some(jprom::memory::MemoryBudget::new(bytes)));
+            }
             match (cmd.name, p.study.as_deref()) {
                 ("demo", _) => {
                     let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
@@ -272,7 +312,7 @@ fn main() -> ExitCode {
                 ("modes", Some(path)) => count_arg(&p).and_then(|count| {
                     let study = study_from(path)?;
                     check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))?;
-                    let report = modes_report(&study, count, progress).map_err(|e| Failure::Run(e.to_string()))?;
+                    let report = modes_report(&study, count, progress).map_err(|e| run_failure(e.to_string()))?;
                     print_out(&modes_table(&report, count))
                 }),
                 (name, _) => Err(Failure::Usage(format!("{name} needs a study file\n{USAGE}"))),
@@ -304,12 +344,12 @@ fn main() -> ExitCode {
 fn run(study: &Study, dir: &std::path::Path, keep_partial: bool, progress: Progress, jobs: usize) -> Result<(), Failure> {
     let t = std::time::Instant::now();
     #[cfg(not(feature = "mpi"))]
-    let summary = run_study_jobs(study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))?;
+    let summary = run_study_jobs(study, dir, progress, jobs).map_err(|e| run_failure(e.to_string()))?;
     #[cfg(feature = "mpi")]
     let (summary, _mpi) = {
         // MPI_Finalize when `_mpi` drops, after the summary is out
         let mpi = jprom_cli::mpi_run::Mpi::init().ok_or_else(|| Failure::Run("MPI could not be initialised with MPI_THREAD_FUNNELED".into()))?;
-        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(|e| Failure::Run(e.to_string()))? {
+        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(|e| run_failure(e.to_string()))? {
             Some(summary) => (summary, mpi),
             // ranks other than 0: rank 0 reports
             None => return Ok(()),

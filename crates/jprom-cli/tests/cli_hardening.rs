@@ -135,3 +135,27 @@ fn a_full_standard_output_is_a_failure_not_a_panic() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("cannot write to standard output") && !err.contains("panicked"), "{err}");
 }
+
+/// `--memory-budget SIZE` caps what one stage may take: a blade run at 1M stops at the
+/// Craig-Bampton reduction with the size it needs and the option that raises it; bad sizes
+/// are usage errors; a size the run fits in runs it.
+#[test]
+fn memory_budget_option_stops_a_stage_with_what_it_needs() {
+    let dir = scratch("memory-budget");
+    let study = small_blade_study(&dir, false);
+    let out = dir.join("out");
+    let (code, stdout, err) = jprom(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet", "--memory-budget", "1M"]);
+    assert_eq!(code, 1, "{stdout}\n{err}");
+    assert!(err.contains("the Craig-Bampton reduction") && err.contains("more than the memory budget of 1.0 MiB (1048576 bytes)"), "{err}");
+    assert!(err.contains("it needs about") && err.contains("raise it with --memory-budget SIZE"), "{err}");
+    for bad in ["0", "abc", "-5G", "12X", "G"] {
+        let (code, _, err) = jprom(&["run", study.to_str().unwrap(), "--memory-budget", bad]);
+        assert_eq!(code, 2, "--memory-budget {bad}: {err}");
+        assert!(err.contains("--memory-budget needs a size") && err.contains(&format!("got '{bad}'")), "{err}");
+    }
+    let (code, stdout, err) = jprom(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet", "--memory-budget=1.5GiB"]);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let (code, help, _) = jprom(&["run", "--help"]);
+    assert_eq!(code, 0);
+    assert!(help.contains("--memory-budget SIZE"), "{help}");
+}

@@ -26,14 +26,14 @@ use faer::{Accum, Mat, Par};
 
 /// Estimated bytes of the dense parts of a Craig-Bampton reduction with `ni` interior and `nb`
 /// boundary DoFs and up to `n_modes` fixed-interface modes: the reduced `K`, `M` (and `C`) and
-/// `K_bb`, the modes with the Lanczos vectors (`3 n_modes` of length `ni`), the `n_i x 256`
-/// column blocks, and with `keep_recovery` the constraint modes `Psi` (`n_i x n_b`). The sparse
+/// `K_bb`, the modes with the Lanczos vectors (`3 n_modes` of length `ni`), three
+/// `n_i x min(256, n_b)` column blocks, and with `keep_recovery` the constraint modes `Psi` (`n_i x n_b`). The sparse
 /// factor of `K_ii` comes on top (its fill is known only once it is factored).
 pub fn working_set_bytes(ni: usize, nb: usize, n_modes: usize, damping: bool, keep_recovery: bool) -> u128 {
     use crate::memory::{bytes_of, product};
     let nr = nb.saturating_add(n_modes);
     let reduced = product(&[3 + damping as usize, nr, nr]);
-    let vectors = product(&[ni, 3usize.saturating_mul(n_modes).saturating_add(3 * BLOCK)]);
+    let vectors = product(&[ni, 3usize.saturating_mul(n_modes).saturating_add(3 * BLOCK.min(nb))]);
     let psi = if keep_recovery { product(&[ni, nb]) } else { 0 };
     bytes_of::<f64>(reduced.saturating_add(vectors).saturating_add(psi))
 }
