@@ -79,7 +79,11 @@ pub(crate) fn status_of(e: &JpError) -> jprom_status {
 
 impl From<JpError> for FfiError {
     fn from(e: JpError) -> Self {
-        FfiError { status: status_of(&e), message: e.to_string() }
+        let message = match &e {
+            JpError::TooLarge { .. } => format!("{e} (raise it with jprom_set_memory_budget if the machine has the memory)"),
+            _ => e.to_string(),
+        };
+        FfiError { status: status_of(&e), message }
     }
 }
 

@@ -257,12 +257,11 @@ fn memory_budget_arg(args: &Parsed) -> Result<Option<usize>, Failure> {
     Ok(Some(bytes as usize))
 }
 
-/// A refusal by the memory budget, with the option that raises it.
-fn run_failure(message: String) -> Failure {
-    if message.contains("more than the memory budget") {
-        Failure::Run(format!("{message}; jprom: raise it with --memory-budget SIZE"))
-    } else {
-        Failure::Run(message)
+/// A failed run; a refusal by the memory budget names the option that raises it.
+fn run_failure(e: jprom::JpError) -> Failure {
+    match e {
+        jprom::JpError::TooLarge { .. } => Failure::Run(format!("{e} (raise it with --memory-budget SIZE if the machine has the memory)")),
+        e => Failure::Run(e.to_string()),
     }
 }
 
@@ -312,7 +311,7 @@ fn main() -> ExitCode {
                 ("modes", Some(path)) => count_arg(&p).and_then(|count| {
                     let study = study_from(path)?;
                     check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string()))?;
-                    let report = modes_report(&study, count, progress).map_err(|e| run_failure(e.to_string()))?;
+                    let report = modes_report(&study, count, progress).map_err(run_failure)?;
                     print_out(&modes_table(&report, count))
                 }),
                 (name, _) => Err(Failure::Usage(format!("{name} needs a study file\n{USAGE}"))),
@@ -344,12 +343,12 @@ fn main() -> ExitCode {
 fn run(study: &Study, dir: &std::path::Path, keep_partial: bool, progress: Progress, jobs: usize) -> Result<(), Failure> {
     let t = std::time::Instant::now();
     #[cfg(not(feature = "mpi"))]
-    let summary = run_study_jobs(study, dir, progress, jobs).map_err(|e| run_failure(e.to_string()))?;
+    let summary = run_study_jobs(study, dir, progress, jobs).map_err(run_failure)?;
     #[cfg(feature = "mpi")]
     let (summary, _mpi) = {
         // MPI_Finalize when `_mpi` drops, after the summary is out
         let mpi = jprom_cli::mpi_run::Mpi::init().ok_or_else(|| Failure::Run("MPI could not be initialised with MPI_THREAD_FUNNELED".into()))?;
-        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(|e| run_failure(e.to_string()))? {
+        match jprom_cli::mpi_run::run_study_mpi(&mpi, study, dir, progress, jobs).map_err(run_failure)? {
             Some(summary) => (summary, mpi),
             // ranks other than 0: rank 0 reports
             None => return Ok(()),

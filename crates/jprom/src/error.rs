@@ -40,8 +40,9 @@ pub enum JpError {
     Eigen { what: String },
 
     /// What a size from outside asks for would need more memory than the budget
-    /// (`crate::memory::MemoryBudget`); nothing was allocated.
-    #[error("{what} is too large: it needs about {}, more than the memory budget of {} (raise it with jprom_set_memory_budget or MemoryBudget::set_global if the machine has the memory)", human_bytes(*bytes), human_bytes(*budget as u128))]
+    /// (`crate::memory::MemoryBudget`, raised with `MemoryBudget::set_global`; each front end
+    /// adds its own way to the message); nothing was allocated.
+    #[error("{what} is too large: it needs about {}, more than the memory budget of {}", human_bytes(*bytes), human_bytes(*budget as u128))]
     TooLarge { what: String, bytes: u128, budget: usize },
 
     /// A size from outside exceeds one of jprom's documented caps ([`crate::limits`]).

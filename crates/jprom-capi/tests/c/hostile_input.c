@@ -143,7 +143,7 @@ int main(int argc, char **argv) {
     expect(jprom_set_memory_budget(1000), JPROM_OK, "set a budget of 1000 bytes", NULL);
     jprom_hbm_options full = opts;
     full.condensed = 0;
-    expect(jprom_solve_point(model, 100.0, &full, &sol), JPROM_BAD_SIZE, "solve beyond the budget", "more than the memory budget of 1000 bytes");
+    expect(jprom_solve_point(model, 100.0, &full, &sol), JPROM_BAD_SIZE, "solve beyond the budget", "more than the memory budget of 1000 bytes (raise it with jprom_set_memory_budget");
     expect(jprom_set_memory_budget(0), JPROM_OK, "restore the default budget", NULL);
     size_t again = 0;
     jprom_memory_budget(&again);
