@@ -147,7 +147,7 @@ fn main() {
     popts.n_samples = n_samples;
     // the memory budget's estimate of one pattern (the prediction refuses, with it, what does
     // not fit: at refinement 15 and H = 3 one pattern is ~34 GB)
-    let pattern_mb = pattern_working_set_bytes(coords.n_dof, coords.n_w, h) / 1e6;
+    let pattern_mb = pattern_working_set_bytes(coords.n_dof, coords.n_w, h) as f64 / 1e6;
     let t = Instant::now();
     let (basis, rep) = match predict_basis(&coords, &popts) {
         Ok(b) => b,

@@ -52,10 +52,12 @@ impl JpModes {
 
 /// Estimated bytes of the dense matrices of one pattern's JP-mode solve: `K̂`
 /// (`((2H + 1) n_w)^2`), the shifted condensed matrix and its LU (`2 (2 H n)^2`), and the
-/// `n`-square static condensation blocks.
-pub fn pattern_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> f64 {
-    let f = |x: usize| x as f64;
-    8.0 * (f((2 * harmonics + 1) * nw).powi(2) + 2.0 * f(2 * harmonics * n).powi(2) + 3.0 * f(n).powi(2))
+/// `n`-square static condensation blocks. Saturating, like the other stages' estimates.
+pub fn pattern_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> u128 {
+    use crate::memory::{bytes_of, product};
+    let k_hat = product(&[2 * harmonics + 1, nw]);
+    let shifted = product(&[2 * harmonics, n]);
+    bytes_of::<f64>(k_hat.saturating_mul(k_hat).saturating_add(shifted.saturating_mul(shifted).saturating_mul(2)).saturating_add(product(&[3, n, n])))
 }
 
 /// Computes the JP modes (31)-(35) of the boundary conditions `k_hat` on the model `coords`.
@@ -81,7 +83,7 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     }
     crate::memory::check(
         &format!("the JP modes of one contact pattern at H = {hh} (n = {n} DoFs, n_w = {nw})"),
-        pattern_working_set_bytes(n, nw, hh).min(u128::MAX as f64) as u128,
+        pattern_working_set_bytes(n, nw, hh),
     )?;
 
     // (28): A_0 = K + K̂_00 and the responses A_0^-1 [I_w; 0], A_0^-1 f_E^0, A_0^-1 [g; 0].

@@ -30,17 +30,17 @@ use std::collections::HashSet;
 
 /// Largest estimated working set of one pattern's JP-mode solve ([`pattern_working_set_bytes`])
 /// for which [`predict_basis`] solves the patterns in parallel.
-pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: f64 = 5.0e8;
+pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: u128 = 500_000_000;
 
 /// How many contact patterns [`predict_basis`] solves at once: in parallel (up to the thread
 /// count and `n_samples`) while one pattern's working set is below
 /// `PARALLEL_PATTERNS_MAX_BYTES` and as many fit in the memory budget; else one at a time
 /// (each solve parallel inside).
-pub fn patterns_at_once(per_pattern_bytes: f64, budget_bytes: usize, n_samples: usize) -> usize {
-    if per_pattern_bytes > PARALLEL_PATTERNS_MAX_BYTES || per_pattern_bytes <= 0.0 {
+pub fn patterns_at_once(per_pattern_bytes: u128, budget_bytes: usize, n_samples: usize) -> usize {
+    if per_pattern_bytes > PARALLEL_PATTERNS_MAX_BYTES || per_pattern_bytes == 0 {
         return 1;
     }
-    let fit = (budget_bytes as f64 / per_pattern_bytes).floor().max(1.0) as usize;
+    let fit = usize::try_from(budget_bytes as u128 / per_pattern_bytes).unwrap_or(usize::MAX).max(1);
     rayon::current_num_threads().min(n_samples).min(fit).max(1)
 }
 
@@ -273,8 +273,8 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     let per_pattern = pattern_working_set_bytes(n, nw, hh);
     let at_once = patterns_at_once(per_pattern, crate::memory::MemoryBudget::global().bytes, opts.n_samples);
     crate::memory::check(
-        &format!("the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {at_once} contact pattern(s) at once, {} each)", crate::memory::human_bytes(per_pattern as u128)),
-        (per_pattern * at_once as f64).min(u128::MAX as f64) as u128,
+        &format!("the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {at_once} contact pattern(s) at once, {} each)", crate::memory::human_bytes(per_pattern)),
+        per_pattern.saturating_mul(at_once as u128),
     )?;
     let q_static = static_solution(coords)?;
     let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
