@@ -8,14 +8,15 @@
 //!    factor of `M` (`M_JC` is SPD): `L_J^-1 K_JC L_J^-T u = λ u`, `v = L_J^-T u`; dense.
 //!    A mode is in the band when `sqrt(Re λ)` (the fundamental angular frequency at which one
 //!    of its harmonics resonates) lies in `[omega_lo, omega_hi]`;
-//! 4. per-harmonic columns (33): for each eigenspace (eigenvalues within [`CLUSTER_TOLERANCE`],
-//!    conjugates together) the cos and sin parts of harmonic `h` of an orthonormal basis of its
-//!    vectors, as their weighted left singular vectors (strongest of unit length): a decision of
-//!    jprom (docs/formulation.md §8.4) that makes the columns, and so the SVD conditioning (38),
-//!    depend on the eigenspace, not on the vectors or phases the eigen solver returned;
-//! 5. static columns (35): per eigenspace, the responses `A_0^-1 [K̂_0c φ; 0]` to the loads of
-//!    its columns `φ` (cos and sin coefficient `c` of harmonic `h`; loads at round-off left
-//!    out, [`COUPLING_FLOOR`]), plus `A_0^-1 f_E^0` and `A_0^-1 [g; 0]` with `g` the
+//! 4. per-harmonic columns (33): the cos and sin parts of harmonic `h` of the real and imaginary
+//!    parts of every kept eigenvector, each normalised to unit length (a decision of jprom: the
+//!    SVD conditioning (38) then judges directions, not the arbitrary scale of each
+//!    eigenvector); a complex eigenvector in its canonical phase, a multiple eigenvalue's
+//!    eigenspace in its canonical basis, so that the columns do not depend on what the eigen
+//!    solver returned (docs/formulation.md §8.4);
+//! 5. static columns (35): `A_0^-1 K̂_{0c} φ` for every column `φ` of `Φ_h` and both
+//!    coefficients `c` (cos and sin) of harmonic `h` (loads at round-off left out,
+//!    [`COUPLING_FLOOR`]), plus `A_0^-1 f_E^0` and `A_0^-1 [g; 0]` with `g` the
 //!    non-homogeneous part of the static contact force ([`ContactJacobian::static_offset`]).
 //!    With these, the linearised static condensation (28) of any combination of the dynamic
 //!    columns is exactly in the span of `Φ_0`.
@@ -41,12 +42,16 @@ use faer::{Mat, Side};
 /// round-off and dropped, e.g. the harmonic-2 part of a fully stuck harmonic-1 mode.
 pub const PART_FLOOR: f64 = 1e-9;
 
+/// A conjugate pair whose imaginary part is below this fraction of `|λ|` is a double real
+/// eigenvalue in round-off (a dense solver may return a stuck pair so).
+pub const DEGENERATE_IMAG: f64 = 1e-8;
+
 /// Eigenvalues within this relative distance of each other (conjugates folded together) make
-/// one eigenspace, whose span, not its vectors, gives the columns (33).
+/// one eigenspace, whose span, not its vectors, gives the columns (33) (`canonical_basis`).
 pub const CLUSTER_TOLERANCE: f64 = 1e-3;
 
-/// Directions of an eigenspace's harmonic parts (unit columns) with a singular value below this
-/// fraction of the largest are dropped as round-off of the eigen solve.
+/// Directions of an eigenspace's vectors (real and imaginary parts, unit length) with a singular
+/// value below this fraction of the largest are dropped as round-off of the eigen solve.
 pub const SPAN_TOLERANCE: f64 = 1e-6;
 
 /// A static coupling load (`K̂_0c φ` of a unit column `φ`, or `K̂_c0 A_0^-1 (f_E^0 + g)`) smaller
@@ -227,65 +232,75 @@ fn assemble(
     let n = coords.n_dof;
     let r = statics.rows.len();
 
-    // The groups whose span each makes one block of columns: each eigenspace (a cluster of
-    // equal eigenvalues, complex conjugates together; an orthonormal basis of the real and
-    // imaginary parts of its eigenvectors), and each static correction.
+    // Real vectors whose parts make the columns: the real and imaginary parts of each simple
+    // eigenvector in its canonical phase (`canonical_phase`); for a multiple or nearly multiple
+    // eigenvalue (a cluster, `eigen_clusters`) the canonical basis of its eigenspace
+    // (`canonical_basis`); then the static corrections. So the columns do not depend on the
+    // phases, nor on the basis of a multiple eigenvalue, that an eigen solver returned.
     let dim = v_re.nrows();
-    let mut groups: Vec<Vec<Vec<f64>>> = eigen_clusters(&eigenvalues)
-        .into_iter()
-        .map(|cl| {
-            let parts: Vec<Vec<f64>> = cl.iter().flat_map(|&col| [v_re.col(col).iter().copied().collect::<Vec<f64>>(), v_im.col(col).iter().copied().collect()]).collect();
-            let parts: Vec<Vec<f64>> = parts.into_iter().filter(|v| crate::linalg::norm2(v) > 0.0).collect();
-            weighted_span(dim, &parts, SPAN_TOLERANCE, false)
-        })
-        .collect();
-    groups.extend(corrections.iter().map(|x| vec![x.clone()]));
+    let mut vectors: Vec<Vec<f64>> = Vec::new();
+    for cl in eigen_clusters(&eigenvalues) {
+        let parts_of = |col: usize| [v_re.col(col).iter().copied().collect::<Vec<f64>>(), v_im.col(col).iter().copied().collect()];
+        let simple = match cl.as_slice() {
+            [_] => true,
+            &[a, b] => {
+                let ((ra, ia), (rb, ib)) = (eigenvalues[a], eigenvalues[b]);
+                let scale = ra.hypot(ia);
+                ia.abs() > DEGENERATE_IMAG * scale && (ra - rb).abs() <= 1e-10 * scale && (ia + ib).abs() <= 1e-10 * scale
+            }
+            _ => false,
+        };
+        if simple {
+            // a simple eigenvalue, or a conjugate pair: its vectors in the canonical phase
+            for &col in &cl {
+                let [mut a, mut b] = parts_of(col);
+                canonical_phase(&mut a, &mut b);
+                vectors.extend([a, b].into_iter().filter(|v| crate::linalg::norm2(v) > 0.0));
+            }
+        } else {
+            let raw: Vec<Vec<f64>> = cl.iter().flat_map(|&col| parts_of(col)).filter(|v| crate::linalg::norm2(v) > 0.0).collect();
+            vectors.extend(canonical_basis(dim, n, hh, &raw));
+        }
+    }
+    vectors.extend(corrections.iter().cloned());
 
-    // (33): per harmonic, each group's cos and sin parts, as the weighted left singular vectors
-    // of their span (strongest of unit length, those below SPAN_TOLERANCE of it dropped): what
-    // the group contributes depends on its eigenspace, not on the vectors the eigen solver
-    // returned for it, nor on their scale.
+    // (33): per harmonic, the cos and sin parts of every vector, each of unit length (parts
+    // below round-off dropped).
     let mut phi = Vec::with_capacity(hh + 1);
     phi.push(Mat::zeros(n, 0));
-    let mut ranges = vec![Vec::new(); hh + 1];
     for h in 1..=hh {
         let mut cols: Vec<Vec<f64>> = Vec::new();
-        for g in &groups {
-            let parts: Vec<Vec<f64>> = g.iter().flat_map(|v| [2 * h - 2, 2 * h - 1].map(|c| v[c * n..(c + 1) * n].to_vec())).collect();
-            let top = parts.iter().map(|p| crate::linalg::norm2(p)).fold(0.0, f64::max);
-            let start = cols.len();
-            if top > PART_FLOOR {
-                cols.extend(weighted_span(n, &parts, SPAN_TOLERANCE, true));
+        for v in &vectors {
+            for c in [2 * h - 2, 2 * h - 1] {
+                let part = &v[c * n..(c + 1) * n];
+                let norm = crate::linalg::norm2(part);
+                if norm > PART_FLOOR {
+                    cols.push(part.iter().map(|x| x / norm).collect());
+                }
             }
-            ranges[h].push(start..cols.len());
         }
         phi.push(stack_columns(n, &cols));
     }
 
-    // (35): static columns, per group: the responses `A_0^-1 [K̂_0c φ; 0]` to the loads of its
-    // columns, the loads at round-off of `K̂` left out (in full stick `K̂_0c = 0` for c >= 1;
-    // such loads would give noise directions), weighted like the harmonics' columns.
+    // (35): static columns `A_0^-1 [K̂_0c φ; 0]` for every column `φ` of `Φ_h` and both
+    // coefficients `c` of `h`, unit length; a load `K̂_0c φ` at round-off of `K̂` is left out (in
+    // full stick `K̂_0c = 0` for c >= 1; the AFT's round-off would give a noise direction).
     let coupling_floor = COUPLING_FLOOR * k_hat_max;
     let mut cols0: Vec<Vec<f64>> = Vec::new();
     if r > 0 {
-        for gi in 0..groups.len() {
-            let mut loads: Vec<Vec<f64>> = Vec::new();
-            for h in 1..=hh {
-                let cols = ranges[h][gi].clone();
-                if cols.is_empty() {
-                    continue;
+        for h in 1..=hh {
+            let phi_r = Mat::from_fn(r, phi[h].ncols(), |i, j| phi[h][(statics.rows[i], j)]);
+            for c in [2 * h - 1, 2 * h] {
+                let f = coupling(0, c, phi_r.as_ref());
+                let kept: Vec<usize> = (0..f.ncols()).filter(|&j| f.col(j).norm_l2() > coupling_floor).collect();
+                let f = Mat::from_fn(r, kept.len(), |i, j| f[(i, kept[j])]);
+                let x = statics.a0_inv_e * &f;
+                for j in 0..x.ncols() {
+                    let norm = x.col(j).norm_l2();
+                    if norm > 0.0 {
+                        cols0.push(x.col(j).iter().map(|v| v / norm).collect());
+                    }
                 }
-                let phi_r = Mat::from_fn(r, cols.len(), |i, j| phi[h][(statics.rows[i], cols.start + j)]);
-                for c in [2 * h - 1, 2 * h] {
-                    let f = coupling(0, c, phi_r.as_ref());
-                    loads.extend((0..f.ncols()).map(|j| f.col(j).iter().copied().collect::<Vec<f64>>()));
-                }
-            }
-            let kept = significant_loads(r, &loads, coupling_floor);
-            if kept.ncols() > 0 {
-                let x = statics.a0_inv_e * &kept;
-                let xs: Vec<Vec<f64>> = (0..x.ncols()).map(|j| x.col(j).iter().copied().collect()).collect();
-                cols0.extend(weighted_span(n, &xs, SPAN_TOLERANCE, true));
             }
         }
     }
@@ -322,42 +337,49 @@ fn eigen_clusters(eigenvalues: &[(f64, f64)]) -> Vec<Vec<usize>> {
     clusters
 }
 
-/// The left singular vectors of the length-`n` columns `cols` whose singular value is above
-/// `tol` times the largest, scaled by `σ_k / σ_max` when `weighted` (else orthonormal). The
-/// result depends on `cols` only through `cols cols^T`.
-fn weighted_span(n: usize, cols: &[Vec<f64>], tol: f64, weighted: bool) -> Vec<Vec<f64>> {
-    if cols.is_empty() {
-        return Vec::new();
+/// Rotates a complex eigenvector `v = a + i b` by the phase that makes its real part the longest,
+/// so that `a ⟂ b` and `|a| >= |b|` (eigen solvers return an arbitrary phase; the parts, each
+/// scaled to unit length, would depend on it).
+fn canonical_phase(a: &mut [f64], b: &mut [f64]) {
+    let (aa, bb) = (crate::linalg::norm2(a).powi(2), crate::linalg::norm2(b).powi(2));
+    if bb == 0.0 {
+        return;
     }
-    let a = stack_columns(n, cols);
-    let Ok(svd) = a.thin_svd() else {
-        return Vec::new();
-    };
-    let s = svd.S().column_vector();
-    let top = s[0];
-    (0..s.nrows())
-        .filter(|&k| s[k] > tol * top && s[k] > 0.0)
-        .map(|k| {
-            let w = if weighted { s[k] / top } else { 1.0 };
-            svd.U().col(k).iter().map(|x| x * w).collect()
-        })
-        .collect()
+    let ab: f64 = a.iter().zip(b.iter()).map(|(x, y)| x * y).sum();
+    // |a cos t - b sin t|^2 is largest at tan 2t = -2 a.b / (|a|^2 - |b|^2)
+    let t = 0.5 * (-2.0 * ab).atan2(aa - bb);
+    let (c, s) = (t.cos(), t.sin());
+    for (x, y) in a.iter_mut().zip(b.iter_mut()) {
+        let (u, v) = (*x, *y);
+        *x = u * c - v * s;
+        *y = u * s + v * c;
+    }
 }
 
-/// The loads `loads` (length `r`) without their directions at round-off: `U_k σ_k` of their
-/// SVD for the singular values above `floor` (absolute: the loads are `K̂_0c` times columns of
-/// length at most 1).
-fn significant_loads(r: usize, loads: &[Vec<f64>], floor: f64) -> Mat<f64> {
-    if loads.is_empty() {
-        return Mat::zeros(r, 0);
+/// A canonical orthonormal basis of the real span of an eigenspace's vectors `raw` (real and
+/// imaginary parts, length `2 H n`): an orthonormal basis `Q` of the span (directions below
+/// [`SPAN_TOLERANCE`] of the largest dropped), rotated by the right singular vectors of its cos
+/// parts (all harmonics), so that the first vector has the longest cos part and so on. It depends
+/// on the span only (unless two singular values of the cos parts are equal), so a double
+/// eigenvalue returned as a real pair `v, J v` by one solver and as a complex pair by another,
+/// or a complex eigenvector in any phase, gives the same columns.
+fn canonical_basis(dim: usize, n: usize, hh: usize, raw: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    if raw.is_empty() {
+        return Vec::new();
     }
-    let a = stack_columns(r, loads);
-    let Ok(svd) = a.thin_svd() else {
-        return Mat::zeros(r, 0);
+    let Ok(svd) = stack_columns(dim, raw).thin_svd() else {
+        return Vec::new();
     };
     let s = svd.S().column_vector();
-    let keep: Vec<usize> = (0..s.nrows()).filter(|&k| s[k] > floor).collect();
-    Mat::from_fn(r, keep.len(), |i, j| svd.U()[(i, keep[j])] * s[keep[j]])
+    let k = (0..s.nrows()).filter(|&j| s[j] > SPAN_TOLERANCE * s[0] && s[j] > 0.0).count();
+    let q = svd.U().subcols(0, k).to_owned();
+    // cos parts: coefficient blocks 2h - 2 (h = 1..=H)
+    let cos = Mat::from_fn(hh * n, k, |i, j| q[((2 * (i / n)) * n + i % n, j)]);
+    let rotated = match cos.thin_svd() {
+        Ok(c) if k > 1 => &q * c.V(),
+        _ => q,
+    };
+    (0..k).map(|j| rotated.col(j).iter().copied().collect()).collect()
 }
 
 /// The right-hand sides of the static corrections of [`ModeOptions::static_correction`], each

@@ -12,7 +12,9 @@
 //! over decades of amplitude, so log spacing meets more distinct patterns; linear spacing is an
 //! option, and is used when `p̂_min = 0`), each sample's contact-state pattern (state of every
 //! contact at every AFT time sample) is recorded, duplicates are dropped, and the JP modes of
-//! the distinct patterns are stacked per harmonic (36) and conditioned (38).
+//! the distinct patterns are stacked per harmonic (36) and conditioned (38). On models where the
+//! eigen solve is shift-invert the patterns share one reference's factorisations
+//! ([`super::reference`], [`PatternFactorisation`]).
 
 use super::basis::JpBasis;
 use super::modes::{jp_modes, modes_of_active_part, EigenSolver, JpModes, ModeOptions};
@@ -158,6 +160,14 @@ pub struct PredictionReport {
     pub n_patterns: usize,
     /// `p̂` of the first sample of each distinct pattern.
     pub pattern_amplitudes: Vec<f64>,
+    /// On a shared reference ([`PatternFactorisation`]): the number of active contact
+    /// coordinates of each distinct pattern (0 for the reference itself); `None` per pattern.
+    #[serde(default)]
+    pub active_coordinates: Option<Vec<usize>>,
+    /// The memory budget's estimate of the prediction's dense work (bytes): the patterns solved
+    /// at once and, on a shared reference, its factorisations.
+    #[serde(default)]
+    pub estimated_bytes: u128,
     /// The nonlinear static solution (z-coordinates).
     pub static_solution: Vec<f64>,
 }
@@ -377,15 +387,19 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     }
     let w_of = |p: f64| contact_w(nw, hh, &q0, &c, &s, p);
     let budget = crate::memory::MemoryBudget::global().bytes;
-    let check = |at_once: usize, per_pattern: u128, shared: u128, how: &str| {
+    let check = |at_once: usize, per_pattern: u128, shared: u128, how: &str| -> Result<u128> {
+        let bytes = per_pattern.saturating_mul(at_once as u128).saturating_add(shared);
         crate::memory::check(
             &format!(
                 "the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {how}{at_once} contact pattern(s) at once, {} each)",
                 crate::memory::human_bytes(per_pattern)
             ),
-            per_pattern.saturating_mul(at_once as u128).saturating_add(shared),
-        )
+            bytes,
+        )?;
+        Ok(bytes)
     };
+    let estimated_bytes;
+    let mut active_coordinates = None;
 
     // The shared reference: the first sample's boundary conditions, factorised once.
     let use_reference = match opts.factorisation {
@@ -409,7 +423,8 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             let parts: Vec<ActivePart> = chosen.iter().map(|(p, forces)| reference.active_part_of_forces(coords, forces, &w_of(*p))).collect::<Result<_>>()?;
             let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, a.len(), hh)).max().unwrap_or(0);
             let at_once = patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), opts.n_samples);
-            check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
+            estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
+            active_coordinates = Some(parts.iter().map(ActivePart::len).collect());
             let modes_of = |part: &ActivePart| modes_of_active_part(coords, part, &opts.modes, reference);
             in_parallel(at_once, &parts, modes_of)?
         }
@@ -417,7 +432,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             // the patterns' dense matrices, as many at once as run in parallel
             let per_pattern = pattern_working_set_bytes(n, nw, hh);
             let at_once = patterns_at_once(per_pattern, budget, opts.n_samples);
-            check(at_once, per_pattern, 0, "")?;
+            estimated_bytes = check(at_once, per_pattern, 0, "")?;
             let modes_of = |(p, forces): &(f64, ContactForces)| -> Result<JpModes> {
                 let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w_of(*p))?;
                 jp_modes(coords, &kj, &opts.modes)
@@ -434,6 +449,8 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         n_patterns: chosen.len(),
         pattern_amplitudes: chosen.iter().map(|(p, _)| *p).collect(),
         static_solution: q_static,
+        active_coordinates,
+        estimated_bytes,
     };
     Ok((basis, report))
 }
