@@ -16,7 +16,10 @@
 //! e_1 3.4e-3 (FR), 2.6e-3 (NLR). With the shared reference of the prediction (issue 17, quiet
 //! machine, 8 samples): CB 573 s at 3.9 GB; basis 420 s for 8 patterns with 6, 312, 1,500,
 //! 3,012, 4,446, 5,454, 5,766 and 5,766 of the 5,766 contact coordinates active, peak 8.1 GB
-//! (estimate 6.2 GB); sizes [21, 8]; FR 0.19 s/point, NLR 0.16 s/point; e*_1 0.039.
+//! (estimate 6.2 GB); FR 0.19 s/point, NLR 0.16 s/point (measured at 9b502b9, whose columns
+//! (33) were weighted per eigenspace: sizes [21, 8], e*_1 0.039; the factorisations, which make
+//! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
+//! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
 //!
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
