@@ -375,8 +375,10 @@ fn canonical_basis(dim: usize, n: usize, hh: usize, raw: &[Vec<f64>]) -> Vec<Vec
     let q = svd.U().subcols(0, k).to_owned();
     // cos parts: coefficient blocks 2h - 2 (h = 1..=H)
     let cos = Mat::from_fn(hh * n, k, |i, j| q[((2 * (i / n)) * n + i % n, j)]);
+    // (a model smaller than its eigenspace has fewer cos-part directions than vectors: the
+    // thin SVD's V is then not square, and the basis is left as it is)
     let rotated = match cos.thin_svd() {
-        Ok(c) if k > 1 => &q * c.V(),
+        Ok(c) if k > 1 && c.V().ncols() == k => &q * c.V(),
         _ => q,
     };
     (0..k).map(|j| rotated.col(j).iter().copied().collect()).collect()
