@@ -13,7 +13,13 @@
 //! Measured (shared 2-core machine, load 5-7, 20 samples, cached CB): CB 645 s at 4.0 GB;
 //! basis 1,410 s (20 patterns, ~70 s each), sizes [57, 11]; FR 0.113 s/point, NLR
 //! 0.124 s/point; e*_1 0.026 (FR), 0.028 (NLR); one FO point 114 s (3 iterations), actual
-//! e_1 3.4e-3 (FR), 2.6e-3 (NLR).
+//! e_1 3.4e-3 (FR), 2.6e-3 (NLR). With the shared reference of the prediction (issue 17, quiet
+//! machine, 8 samples): CB 573 s at 3.9 GB; basis 420 s for 8 patterns with 6, 312, 1,500,
+//! 3,012, 4,446, 5,454, 5,766 and 5,766 of the 5,766 contact coordinates active, peak 8.1 GB
+//! (estimate 6.2 GB); FR 0.19 s/point, NLR 0.16 s/point (measured at 9b502b9, whose columns
+//! (33) were weighted per eigenspace: sizes [21, 8], e*_1 0.039; the factorisations, which make
+//! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
+//! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
 //!
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
@@ -32,7 +38,6 @@ use jprom::fe::{BladeParams, BuiltinBlade, CbOptions};
 use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::{actual_error, predicted_error};
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
-use jprom::jp::modes::pattern_working_set_bytes;
 use jprom::jp::{predict_basis, stuck_mode, PredictionOptions};
 use faer::Mat;
 use jprom::model::{ContactCoordinates, Damping, Model};
@@ -43,7 +48,7 @@ use std::time::Instant;
 
 const POINTS: usize = 200;
 
-const TABLE_HEAD: &str = "| contacts | FE DoFs | n_w | H | FE build s | CB s | CB peak RSS MB | setup s | basis s | pattern estimate MB | samples / patterns | sizes n_h | FR build s | FR s/point | NLR build s | NLR s/point | FR e*_1 | NLR e*_1 | FR-NLR peak tip diff | peak RSS MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
+const TABLE_HEAD: &str = "| contacts | FE DoFs | n_w | H | FE build s | CB s | CB peak RSS MB | setup s | basis s | prediction estimate MB | samples / patterns | sizes n_h | FR build s | FR s/point | NLR build s | NLR s/point | FR e*_1 | NLR e*_1 | FR-NLR peak tip diff | peak RSS MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
 
 /// Prints the stage table and saves it to `target/bench-results/jp_blade_2k_r<refinement>_h<H>.md`.
 fn save_table(refinement: usize, h: usize, row: &str) {
@@ -145,20 +150,34 @@ fn main() {
     let coords = ContactCoordinates::new(&model, h).unwrap();
     let mut popts = PredictionOptions::new(band);
     popts.n_samples = n_samples;
-    // the memory budget's estimate of one pattern (the prediction refuses, with it, what does
-    // not fit: at refinement 15 and H = 3 one pattern is ~34 GB)
-    let pattern_mb = pattern_working_set_bytes(coords.n_dof, coords.n_w, h) as f64 / 1e6;
     let t = Instant::now();
     let (basis, rep) = match predict_basis(&coords, &popts) {
         Ok(b) => b,
         Err(e) => {
             stage(&format!("basis refused: {e}"), t);
+            // the estimate the budget refused
+            let pattern_mb = match &e {
+                jprom::JpError::TooLarge { bytes, .. } => *bytes as f64 / 1e6,
+                _ => f64::NAN,
+            };
             let row = format!("| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | refused | {pattern_mb:.0} | {n_samples} / - | - | - | - | - | - | - | - | - | {:.0} |", coords.n_w, vm_hwm_mb());
             save_table(refinement, h, &row);
             return;
         }
     };
-    let t_basis = stage(&format!("basis: {} samples, {} patterns, sizes {:?}", n_samples, rep.n_patterns, basis.sizes), t);
+    let t_basis = stage(
+        &format!(
+            "basis: {} samples, {} patterns, sizes {:?}, active contact coordinates per pattern {:?} (of {}), estimate {:.0} MB",
+            n_samples,
+            rep.n_patterns,
+            basis.sizes,
+            rep.active_coordinates,
+            coords.n_w,
+            rep.estimated_bytes as f64 / 1e6
+        ),
+        t,
+    );
+    let pattern_mb = rep.estimated_bytes as f64 / 1e6;
     let rss_basis = vm_hwm_mb();
 
     let sopts = SweepOptions { max_step: 0.006, initial_step: 0.006, max_points: POINTS, ..SweepOptions::band(band.0, band.1) };

@@ -10,7 +10,7 @@ use jprom::io::matrix_market::parse_matrix_market;
 use jprom::jp::{jp_modes, predict_basis, ContactJacobian, ModeOptions, PredictionOptions};
 use jprom::memory::human_bytes;
 use jprom::model::ContactCoordinates;
-use jprom::jp::prediction::patterns_at_once;
+use jprom::jp::prediction::{patterns_at_once, PatternFactorisation};
 use jprom_testkit::chain::{chain_model, linear_modes, stuck_stiffness_physical, ChainOptions};
 use jprom::memory::MemoryBudget;
 use jprom::JpError;
@@ -59,10 +59,17 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     let pattern = jprom::jp::modes::pattern_working_set_bytes(180, nw, 3);
     assert!(pattern > coords_need + 1000);
     let band = (10.0, 20.0);
-    let e = predict_basis(&coords, &PredictionOptions::new(band)).unwrap_err();
+    let per_pattern = PredictionOptions { factorisation: PatternFactorisation::PerPattern, ..PredictionOptions::new(band) };
+    let e = predict_basis(&coords, &per_pattern).unwrap_err();
     assert!(matches!(&e, JpError::TooLarge { .. }), "{e:?}");
     let text = e.to_string();
     assert!(text.contains("the JP prediction at H = 3 (n = 180 DoFs") && text.contains(&human_bytes(pattern)), "{text}");
+    // by default (2 H n = 1080 > 600: shift-invert) on a shared reference: its factorisations
+    let reference = jprom::jp::reference::reference_working_set_bytes(180, nw, 3);
+    assert!(reference > coords_need + 1000);
+    let e = predict_basis(&coords, &PredictionOptions::new(band)).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == reference), "{e:?}");
+    assert!(e.to_string().contains("the shared factorisations of the JP prediction at H = 3 (n = 180 DoFs"), "{e}");
     // one pattern's JP modes alone (a corrected or a solution's basis) is refused as well
     let k_hat = ContactJacobian::stuck(&coords.laws, &coords.offsets, nw, 3).unwrap();
     let e = jp_modes(&coords, &k_hat, &ModeOptions::in_band(band)).unwrap_err();

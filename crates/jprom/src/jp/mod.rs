@@ -14,11 +14,13 @@ pub mod conditioning;
 pub mod mode_selection;
 pub mod modes;
 pub mod prediction;
+pub mod reference;
 pub mod shift_invert;
 
 pub use basis::{JpBasis, BasisOptions};
 pub use conditioning::{condition, ConditionedBasis};
-pub use modes::{jp_modes, EigenSolver, JpModes, ModeOptions};
+pub use modes::{jp_modes, jp_modes_on_reference, EigenSolver, JpModes, ModeOptions};
+pub use reference::ReferenceFactors;
 pub use prediction::{predict_basis, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, Spacing};
 
 
@@ -109,20 +111,7 @@ impl ContactJacobian {
                 }
             }
         }
-        let mut static_offset = forces.force[..n_w].to_vec();
-        let mut scale = crate::linalg::norm2(&static_offset);
-        for (i, g) in static_offset.iter_mut().enumerate() {
-            let mut kw = 0.0;
-            for (col, wv) in w_all.iter().enumerate() {
-                kw += k_hat[(i, col)] * wv;
-            }
-            *g -= kw;
-            scale += kw.abs();
-        }
-        // Round-off of a homogeneous law is not an offset.
-        if crate::linalg::norm2(&static_offset) <= 1e-10 * scale {
-            static_offset.iter_mut().for_each(|g| *g = 0.0);
-        }
+        let static_offset = static_offset(laws, offsets, n_w, harmonics, forces, w_all);
         Ok(ContactJacobian { harmonics, n_w, k_hat, static_offset })
     }
 
@@ -207,6 +196,34 @@ fn check_offsets(laws: &[ContactLaw], offsets: &[usize], n_w: usize) -> Result<(
         }
     }
     Ok(())
+}
+
+/// `g = F_0(w) - sum_l K̂_{0l} w_l` (see [`ContactJacobian::static_offset`]) from the
+/// contacts' Jacobian blocks of an AFT evaluation (sizes checked by the caller); zero when it is
+/// only the round-off of a homogeneous law.
+pub(crate) fn static_offset(laws: &[ContactLaw], offsets: &[usize], n_w: usize, harmonics: usize, forces: &ContactForces, w_all: &[f64]) -> Vec<f64> {
+    let nc = 2 * harmonics + 1;
+    let mut g = forces.force[..n_w].to_vec();
+    let mut scale = crate::linalg::norm2(&g);
+    for (c, (law, &off)) in laws.iter().zip(offsets).enumerate() {
+        let d = law.dim();
+        let m = d * nc;
+        let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + m * m];
+        for i in 0..d {
+            let mut kw = 0.0;
+            for col in 0..m {
+                let (l, j) = (col / d, col % d);
+                kw += block[i + col * m] * w_all[l * n_w + off + j];
+            }
+            g[off + i] -= kw;
+            scale += kw.abs();
+        }
+    }
+    // Round-off of a homogeneous law is not an offset.
+    if crate::linalg::norm2(&g) <= 1e-10 * scale {
+        g.iter_mut().for_each(|x| *x = 0.0);
+    }
+    g
 }
 
 pub(crate) use crate::linalg::solve_checked as lu_solve;

@@ -12,10 +12,13 @@
 //! over decades of amplitude, so log spacing meets more distinct patterns; linear spacing is an
 //! option, and is used when `p̂_min = 0`), each sample's contact-state pattern (state of every
 //! contact at every AFT time sample) is recorded, duplicates are dropped, and the JP modes of
-//! the distinct patterns are stacked per harmonic (36) and conditioned (38).
+//! the distinct patterns are stacked per harmonic (36) and conditioned (38). On models where the
+//! eigen solve is shift-invert the patterns share one reference's factorisations
+//! ([`super::reference`], [`PatternFactorisation`]).
 
 use super::basis::JpBasis;
-use super::modes::{jp_modes, JpModes, ModeOptions};
+use super::modes::{jp_modes, modes_of_active_part, EigenSolver, JpModes, ModeOptions};
+use super::reference::{active_pattern_working_set_bytes, reference_working_set_bytes, ActivePart, ReferenceFactors};
 use super::{lu_solve, ContactJacobian};
 use crate::aft::{evaluate_contacts, AftPlan, ContactForces};
 use crate::contact::ContactState;
@@ -42,6 +45,22 @@ pub fn patterns_at_once(per_pattern_bytes: u128, budget_bytes: usize, n_samples:
     }
     let fit = usize::try_from(budget_bytes as u128 / per_pattern_bytes).unwrap_or(usize::MAX).max(1);
     rayon::current_num_threads().min(n_samples).min(fit).max(1)
+}
+
+/// `f` of every item, `at_once` at a time (in parallel, on a pool of that many threads when
+/// fewer than rayon's).
+fn in_parallel<T: Sync>(at_once: usize, items: &[T], f: impl Fn(&T) -> Result<JpModes> + Sync + Send) -> Result<Vec<JpModes>> {
+    if at_once <= 1 || items.len() <= 1 {
+        items.iter().map(f).collect()
+    } else if at_once >= rayon::current_num_threads() {
+        items.par_iter().map(f).collect()
+    } else {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(at_once)
+            .build()
+            .map_err(|e| JpError::invalid("JP prediction", format!("could not start {at_once} threads: {e}")))?;
+        pool.install(|| items.par_iter().map(f).collect())
+    }
 }
 
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
@@ -89,6 +108,28 @@ pub struct PredictionOptions {
     pub p_max: Option<f64>,
     /// Generating shape (default the stuck mode).
     pub shape: GeneratingShape,
+    /// How the patterns' model-sized matrices are factorised (default
+    /// [`PatternFactorisation::Auto`]).
+    #[serde(default)]
+    pub factorisation: PatternFactorisation,
+}
+
+/// How [`predict_basis`] factorises the model-sized matrices of its contact patterns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PatternFactorisation {
+    /// Each pattern on its own ([`jp_modes`]): `K + K̂_00`, and `K_JC - σ M_JC` or the dense
+    /// eigen solve of (31), per pattern.
+    PerPattern,
+    /// Once per prediction on the first sample's boundary conditions
+    /// ([`super::reference`], docs/formulation.md §8.10); each pattern then works on its active
+    /// contacts only, with shift-invert Arnoldi at the band centre. The same basis up to
+    /// round-off.
+    SharedReference,
+    /// [`PatternFactorisation::SharedReference`] when the eigen solver resolves to shift-invert
+    /// (`2 H n` above [`super::modes::AUTO_DENSE_MAX`]), else per pattern; per pattern as well if
+    /// the reference is singular at the band centre.
+    #[default]
+    Auto,
 }
 
 impl PredictionOptions {
@@ -102,6 +143,7 @@ impl PredictionOptions {
             spacing: Spacing::Log,
             p_max: None,
             shape: GeneratingShape::StuckMode,
+            factorisation: PatternFactorisation::Auto,
         }
     }
 }
@@ -118,6 +160,14 @@ pub struct PredictionReport {
     pub n_patterns: usize,
     /// `p̂` of the first sample of each distinct pattern.
     pub pattern_amplitudes: Vec<f64>,
+    /// On a shared reference ([`PatternFactorisation`]): the number of active contact
+    /// coordinates of each distinct pattern (0 for the reference itself); `None` per pattern.
+    #[serde(default)]
+    pub active_coordinates: Option<Vec<usize>>,
+    /// The memory budget's estimate of the prediction's dense work (bytes): the patterns solved
+    /// at once and, on a shared reference, its factorisations.
+    #[serde(default)]
+    pub estimated_bytes: u128,
     /// The nonlinear static solution (z-coordinates).
     pub static_solution: Vec<f64>,
 }
@@ -269,13 +319,6 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     if opts.n_samples == 0 {
         return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
     }
-    // the patterns' dense matrices, as many at once as run in parallel
-    let per_pattern = pattern_working_set_bytes(n, nw, hh);
-    let at_once = patterns_at_once(per_pattern, crate::memory::MemoryBudget::global().bytes, opts.n_samples);
-    crate::memory::check(
-        &format!("the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {at_once} contact pattern(s) at once, {} each)", crate::memory::human_bytes(per_pattern)),
-        per_pattern.saturating_mul(at_once as u128),
-    )?;
     let q_static = static_solution(coords)?;
     let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
         GeneratingShape::StuckMode => {
@@ -342,21 +385,60 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             chosen.push((p, forces));
         }
     }
-    let modes_of = |(p, forces): &(f64, ContactForces)| -> Result<JpModes> {
-        let w = contact_w(nw, hh, &q0, &c, &s, *p);
-        let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w)?;
-        jp_modes(coords, &kj, &opts.modes)
+    let w_of = |p: f64| contact_w(nw, hh, &q0, &c, &s, p);
+    let budget = crate::memory::MemoryBudget::global().bytes;
+    let check = |at_once: usize, per_pattern: u128, shared: u128, how: &str| -> Result<u128> {
+        let bytes = per_pattern.saturating_mul(at_once as u128).saturating_add(shared);
+        crate::memory::check(
+            &format!(
+                "the JP prediction at H = {hh} (n = {n} DoFs, n_w = {nw}; {how}{at_once} contact pattern(s) at once, {} each)",
+                crate::memory::human_bytes(per_pattern)
+            ),
+            bytes,
+        )?;
+        Ok(bytes)
     };
-    let modes: Vec<JpModes> = if at_once <= 1 || chosen.len() <= 1 {
-        chosen.iter().map(modes_of).collect::<Result<_>>()?
-    } else if at_once >= rayon::current_num_threads() {
-        chosen.par_iter().map(modes_of).collect::<Result<_>>()?
+    let estimated_bytes;
+    let mut active_coordinates = None;
+
+    // The shared reference: the first sample's boundary conditions, factorised once.
+    let use_reference = match opts.factorisation {
+        PatternFactorisation::PerPattern => false,
+        PatternFactorisation::SharedReference => true,
+        PatternFactorisation::Auto => opts.modes.solver.resolve(2 * hh * n) == EigenSolver::ShiftInvert,
+    };
+    let centre = 0.5 * (opts.modes.band.0 + opts.modes.band.1);
+    let reference = if use_reference {
+        match ReferenceFactors::from_forces(coords, &chosen[0].1, hh, centre * centre) {
+            Ok(r) => Some(r),
+            Err(JpError::SingularMatrix { .. }) if opts.factorisation == PatternFactorisation::Auto => None,
+            Err(e) => return Err(e),
+        }
     } else {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(at_once)
-            .build()
-            .map_err(|e| JpError::invalid("JP prediction", format!("could not start {at_once} threads: {e}")))?;
-        pool.install(|| chosen.par_iter().map(modes_of).collect::<Result<_>>())?
+        None
+    };
+
+    let modes: Vec<JpModes> = match &reference {
+        Some(reference) => {
+            let parts: Vec<ActivePart> = chosen.iter().map(|(p, forces)| reference.active_part_of_forces(coords, forces, &w_of(*p))).collect::<Result<_>>()?;
+            let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, a.len(), hh)).max().unwrap_or(0);
+            let at_once = patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), opts.n_samples);
+            estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
+            active_coordinates = Some(parts.iter().map(ActivePart::len).collect());
+            let modes_of = |part: &ActivePart| modes_of_active_part(coords, part, &opts.modes, reference);
+            in_parallel(at_once, &parts, modes_of)?
+        }
+        None => {
+            // the patterns' dense matrices, as many at once as run in parallel
+            let per_pattern = pattern_working_set_bytes(n, nw, hh);
+            let at_once = patterns_at_once(per_pattern, budget, opts.n_samples);
+            estimated_bytes = check(at_once, per_pattern, 0, "")?;
+            let modes_of = |(p, forces): &(f64, ContactForces)| -> Result<JpModes> {
+                let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w_of(*p))?;
+                jp_modes(coords, &kj, &opts.modes)
+            };
+            in_parallel(at_once, &chosen, modes_of)?
+        }
     };
     let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?.with_band(opts.modes.band);
     let report = PredictionReport {
@@ -367,6 +449,8 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         n_patterns: chosen.len(),
         pattern_amplitudes: chosen.iter().map(|(p, _)| *p).collect(),
         static_solution: q_static,
+        active_coordinates,
+        estimated_bytes,
     };
     Ok((basis, report))
 }

@@ -37,6 +37,7 @@
 //! solve's (which counts a stuck pair as 2).
 
 use super::mode_selection::ModeOptions;
+use super::reference::{ActivePart, ReferenceFactors};
 use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
@@ -76,13 +77,22 @@ pub enum ShiftedFactorisation {
 }
 
 /// The pieces of the condensed problem (30)-(31) in structured form:
-/// `K_JC = blockdiag(K) + E^T S E`, `M_JC = blockdiag(h^2 M)`.
+/// `K_JC = blockdiag(K_b) + E_r^T S E_r`, `M_JC = blockdiag(h^2 M)`: either `K_b = K` and `S` on
+/// all contact coordinates ([`CondensedProblem::new`]), or `K_b = A_ref` of a prediction's
+/// reference and `S = ΔS` on a pattern's active coordinates
+/// ([`CondensedProblem::on_reference`], [`super::reference`]).
 #[derive(Debug)]
 pub struct CondensedProblem<'a> {
     coords: &'a ContactCoordinates,
     harmonics: usize,
-    /// `S`, `2 H n_w` square (coefficient blocks `1..=2H`).
+    /// `K_b` of every coefficient block.
+    base: &'a Mat<f64>,
+    /// The contact coordinates `S` acts on (indices into `w`).
+    rows: Vec<usize>,
+    /// `S`, `2 H r` square (coefficient blocks `1..=2H`, `r = rows.len()`).
     s: Mat<f64>,
+    /// The reference whose factorisations the shifted solves use.
+    reference: Option<&'a ReferenceFactors>,
 }
 
 impl<'a> CondensedProblem<'a> {
@@ -101,7 +111,14 @@ impl<'a> CondensedProblem<'a> {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
         let s = super::condensed::contact_condensation(coords, k_hat, g_ww);
-        Ok(CondensedProblem { coords, harmonics: hh, s })
+        Ok(CondensedProblem { coords, harmonics: hh, base: &coords.stiffness, rows: (0..nw).collect(), s, reference: None })
+    }
+
+    /// The condensed problem of the pattern `part` on `reference`: `K_b = A_ref`,
+    /// `S = ΔS_ij = D_ij - D_i0 g_aa D_0j` on the active coordinates.
+    pub fn on_reference(coords: &'a ContactCoordinates, reference: &'a ReferenceFactors, part: &ActivePart, g_aa: &Mat<f64>) -> Self {
+        let s = super::reference::active_condensation(part, g_aa);
+        CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), s, reference: Some(reference) }
     }
 
     /// Size `2 H n` of the condensed problem.
@@ -111,7 +128,7 @@ impl<'a> CondensedProblem<'a> {
 
     /// `out = (K_JC - shift M_JC) x` (structured, `O(H n^2 + (H n_w)^2)` per column).
     pub fn apply_shifted(&self, x: MatRef<'_, f64>, shift: f64) -> Mat<f64> {
-        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let n = self.coords.n_dof;
         let nj = 2 * self.harmonics;
         let k = x.ncols();
         let mut out = Mat::<f64>::zeros(nj * n, k);
@@ -119,17 +136,18 @@ impl<'a> CondensedProblem<'a> {
             let h = (c / 2 + 1) as f64;
             let xc = x.submatrix(c * n, 0, n, k);
             let mut oc = out.as_mut().submatrix_mut(c * n, 0, n, k);
-            faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Replace, self.coords.stiffness.as_ref(), xc, 1.0, par());
+            faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Replace, self.base.as_ref(), xc, 1.0, par());
             if shift != 0.0 {
                 faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Add, self.coords.mass.as_ref(), xc, -shift * h * h, par());
             }
         }
-        let ex = gather_w(x, n, nw, nj);
+        let r = self.rows.len();
+        let ex = gather(x, n, &self.rows, nj);
         let sex = &self.s * &ex;
         for c in 0..nj {
             for j in 0..k {
-                for i in 0..nw {
-                    out[(c * n + i, j)] += sex[(c * nw + i, j)];
+                for (a, &i) in self.rows.iter().enumerate() {
+                    out[(c * n + i, j)] += sex[(c * r + a, j)];
                 }
             }
         }
@@ -138,7 +156,8 @@ impl<'a> CondensedProblem<'a> {
 
     /// `(| |K_JC| |v| |, | |M_JC| |v| |)` for a complex `v` (the rounding scale of the products).
     fn abs_products(&self, v: &[c64]) -> (f64, f64) {
-        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let n = self.coords.n_dof;
+        let r = self.rows.len();
         let nj = 2 * self.harmonics;
         let a: Vec<f64> = v.iter().map(|z| z.re.hypot(z.im)).collect();
         // |A| x without forming |A| (these are model-sized matrices).
@@ -151,17 +170,17 @@ impl<'a> CondensedProblem<'a> {
                 }
             }
         };
-        let aw: Vec<f64> = (0..nj * nw).map(|r| a[(r / nw) * n + r % nw]).collect();
-        let mut sa = vec![0.0; nj * nw];
+        let aw: Vec<f64> = (0..nj * r).map(|q| a[(q / r) * n + self.rows[q % r]]).collect();
+        let mut sa = vec![0.0; nj * r];
         abs_times(&self.s, &aw, &mut sa);
         let (mut k2, mut m2) = (0.0, 0.0);
         for c in 0..nj {
             let h = (c / 2 + 1) as f64;
             let ac = &a[c * n..(c + 1) * n];
             let mut kc = vec![0.0; n];
-            abs_times(&self.coords.stiffness, ac, &mut kc);
-            for i in 0..nw {
-                kc[i] += sa[c * nw + i];
+            abs_times(self.base, ac, &mut kc);
+            for (q, &i) in self.rows.iter().enumerate() {
+                kc[i] += sa[c * r + q];
             }
             let mut mc = vec![0.0; n];
             abs_times(&self.coords.mass, ac, &mut mc);
@@ -187,20 +206,21 @@ impl<'a> CondensedProblem<'a> {
 
     /// Dense `K_JC - shift M_JC` (for tests and the dense factorisation).
     pub fn dense_shifted(&self, shift: f64) -> Mat<f64> {
-        let (n, nw) = (self.coords.n_dof, self.coords.n_w);
+        let n = self.coords.n_dof;
+        let r = self.rows.len();
         let nj = 2 * self.harmonics;
         let mut a = Mat::<f64>::zeros(nj * n, nj * n);
         for c in 0..nj {
             let h = (c / 2 + 1) as f64;
             let mut blk = a.as_mut().submatrix_mut(c * n, c * n, n, n);
-            blk.copy_from(&self.coords.stiffness);
+            blk.copy_from(self.base);
             blk -= faer::Scale(shift * h * h) * &self.coords.mass;
         }
         for cj in 0..nj {
-            for j in 0..nw {
+            for (b, &j) in self.rows.iter().enumerate() {
                 for ci in 0..nj {
-                    for i in 0..nw {
-                        a[(ci * n + i, cj * n + j)] += self.s[(ci * nw + i, cj * nw + j)];
+                    for (q, &i) in self.rows.iter().enumerate() {
+                        a[(ci * n + i, cj * n + j)] += self.s[(ci * r + q, cj * r + b)];
                     }
                 }
             }
@@ -209,20 +229,39 @@ impl<'a> CondensedProblem<'a> {
     }
 }
 
-/// `E x`: the contact rows of every coefficient block.
-fn gather_w(x: MatRef<'_, f64>, n: usize, nw: usize, nj: usize) -> Mat<f64> {
-    Mat::from_fn(nj * nw, x.ncols(), |r, j| x[((r / nw) * n + r % nw, j)])
+/// `E_r x`: the rows `rows` of every coefficient block.
+fn gather(x: MatRef<'_, f64>, n: usize, rows: &[usize], nj: usize) -> Mat<f64> {
+    let r = rows.len();
+    Mat::from_fn(nj * r, x.ncols(), |q, j| x[((q / r) * n + rows[q % r], j)])
+}
+
+/// The LUs of the `B_h` of a Woodbury solve: its own, or a prediction reference's (index per
+/// harmonic `1..=H` into [`ReferenceFactors`]' `B_0..B_H`).
+#[derive(Debug)]
+enum HarmonicLus<'a> {
+    Own(Vec<PartialPivLu<f64>>),
+    Shared(&'a ReferenceFactors, Vec<usize>),
+}
+
+impl HarmonicLus<'_> {
+    /// LU of `B_h` for harmonic `h = hi + 1`.
+    fn get(&self, hi: usize) -> &PartialPivLu<f64> {
+        match self {
+            HarmonicLus::Own(v) => &v[hi],
+            HarmonicLus::Shared(r, idx) => r.lu(idx[hi]),
+        }
+    }
 }
 
 #[derive(Debug)]
-enum Factors {
+enum Factors<'a> {
     Dense(PartialPivLu<f64>),
     Woodbury {
-        /// LU of `B_h = K - σ h^2 M`, `h = 1..=H`.
-        b: Vec<PartialPivLu<f64>>,
-        /// `B_h^-1 E_h^T` (`n x n_w`), `h = 1..=H`.
+        /// LU of `B_h = K_b - σ h^2 M`, `h = 1..=H`.
+        b: HarmonicLus<'a>,
+        /// `B_h^-1 E_r^T` (`n x r`), `h = 1..=H`.
         y: Vec<Mat<f64>>,
-        /// LU of `I + S R` (`2 H n_w` square).
+        /// LU of `I + S R` (`2 H r` square).
         cap: PartialPivLu<f64>,
     },
 }
@@ -232,23 +271,28 @@ enum Factors {
 pub struct ShiftedSolve<'p, 'a> {
     problem: &'p CondensedProblem<'a>,
     shift: f64,
-    factors: Factors,
+    factors: Factors<'a>,
 }
 
 impl<'p, 'a> ShiftedSolve<'p, 'a> {
-    /// Factorises `K_JC - shift M_JC` the way `how` says.
+    /// Factorises `K_JC - shift M_JC` the way `how` says. A problem on a prediction's reference
+    /// ([`CondensedProblem::on_reference`]) always uses the reference's LUs (Woodbury on its
+    /// active coordinates), at the reference's shift or at 0.
     ///
     /// # Errors
     /// [`JpError::SingularMatrix`] if the matrix (or, for [`ShiftedFactorisation::Woodbury`],
-    /// one of its pieces) is singular or the solve is inaccurate.
+    /// one of its pieces) is singular or the solve is inaccurate; [`JpError::InvalidValue`] for
+    /// a problem on a reference at another shift.
     pub fn new(problem: &'p CondensedProblem<'a>, shift: f64, how: ShiftedFactorisation) -> Result<Self> {
-        let (n, nw) = (problem.coords.n_dof, problem.coords.n_w);
+        let n = problem.coords.n_dof;
+        let r = problem.rows.len();
         let hh = problem.harmonics;
         let nf = |x: usize| x as f64;
-        let how = match how {
-            ShiftedFactorisation::Auto => {
+        let how = match (how, problem.reference) {
+            (_, Some(_)) => ShiftedFactorisation::Woodbury,
+            (ShiftedFactorisation::Auto, None) => {
                 let dense = nf(2 * hh * n).powi(3) * 2.0 / 3.0;
-                let wood = nf(hh) * nf(n).powi(3) * 2.0 / 3.0 + nf(hh) * 2.0 * nf(n).powi(2) * nf(nw) + nf(2 * hh * nw).powi(3) * 2.0 / 3.0;
+                let wood = nf(hh) * nf(n).powi(3) * 2.0 / 3.0 + nf(hh) * 2.0 * nf(n).powi(2) * nf(r) + nf(2 * hh * r).powi(3) * 2.0 / 3.0;
                 if wood < dense {
                     match Self::new(problem, shift, ShiftedFactorisation::Woodbury) {
                         Ok(s) => return Ok(s),
@@ -258,30 +302,47 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     ShiftedFactorisation::Dense
                 }
             }
-            h => h,
+            (h, None) => h,
         };
         let factors = match how {
             ShiftedFactorisation::Dense => Factors::Dense(problem.dense_shifted(shift).partial_piv_lu()),
             _ => {
-                let mut b = Vec::with_capacity(hh);
-                let mut y = Vec::with_capacity(hh);
-                let mut e = Mat::<f64>::zeros(n, nw);
-                for i in 0..nw {
-                    e[(i, i)] = 1.0;
-                }
-                for h in 1..=hh {
-                    let bh = &problem.coords.stiffness - faer::Scale(shift * (h * h) as f64) * &problem.coords.mass;
-                    let lu = bh.partial_piv_lu();
-                    y.push(lu.solve(&e));
-                    b.push(lu);
-                }
+                let (b, y) = match problem.reference {
+                    Some(reference) => {
+                        let idx: Vec<usize> = if shift == reference.shift() {
+                            (1..=hh).collect()
+                        } else if shift == 0.0 {
+                            vec![0; hh]
+                        } else {
+                            return Err(JpError::invalid("shift", format!("a problem on a reference is solved at its shift {} or at 0, not {shift}", reference.shift())));
+                        };
+                        let y = idx.iter().map(|&h| reference.y_columns(h, &problem.rows)).collect();
+                        (HarmonicLus::Shared(reference, idx), y)
+                    }
+                    None => {
+                        let mut e = Mat::<f64>::zeros(n, r);
+                        for (q, &i) in problem.rows.iter().enumerate() {
+                            e[(i, q)] = 1.0;
+                        }
+                        let mut lus = Vec::with_capacity(hh);
+                        let mut y = Vec::with_capacity(hh);
+                        for h in 1..=hh {
+                            let bh = problem.base - faer::Scale(shift * (h * h) as f64) * &problem.coords.mass;
+                            let lu = bh.partial_piv_lu();
+                            y.push(lu.solve(&e));
+                            lus.push(lu);
+                        }
+                        (HarmonicLus::Own(lus), y)
+                    }
+                };
                 let nj = 2 * hh;
-                // I + S R, R = blockdiag_c(E B_h(c)^-1 E^T).
-                let mut cap = Mat::<f64>::identity(nj * nw, nj * nw);
+                // I + S R, R = blockdiag_c(E_r B_h(c)^-1 E_r^T).
+                let mut cap = Mat::<f64>::identity(nj * r, nj * r);
                 for cj in 0..nj {
-                    let r = y[cj / 2].as_ref().submatrix(0, 0, nw, nw);
-                    let sr = problem.s.as_ref().submatrix(0, cj * nw, nj * nw, nw) * r;
-                    let mut blk = cap.as_mut().submatrix_mut(0, cj * nw, nj * nw, nw);
+                    let yc: &Mat<f64> = &y[cj / 2];
+                    let rr = Mat::from_fn(r, r, |q, j| yc[(problem.rows[q], j)]);
+                    let sr = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
+                    let mut blk = cap.as_mut().submatrix_mut(0, cj * r, nj * r, r);
                     blk += &sr;
                 }
                 Factors::Woodbury { b, y, cap: cap.partial_piv_lu() }
@@ -293,10 +354,11 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
         let rhs = Mat::from_fn(dim, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
         let x = solve.solve(rhs.as_ref());
         let finite = (0..dim).all(|i| x[(i, 0)].is_finite());
-        let r = problem.apply_shifted(x.as_ref(), shift) - &rhs;
+        let res = problem.apply_shifted(x.as_ref(), shift) - &rhs;
         let scale = problem.apply_shifted(x.as_ref(), 0.0).norm_l2() + shift.abs() * problem.apply_mass(x.as_ref()).norm_l2() + rhs.norm_l2();
-        if !finite || r.norm_l2() > 1e-9 * scale {
-            return Err(JpError::singular(format!("K_JC - sigma M_JC (shift-invert of the JP problem (31), {how:?} factorisation)")));
+        if !finite || res.norm_l2() > 1e-9 * scale {
+            let on = if problem.reference.is_some() { ", on the prediction's reference" } else { "" };
+            return Err(JpError::singular(format!("K_JC - sigma M_JC (shift-invert of the JP problem (31), {how:?} factorisation{on})")));
         }
         Ok(solve)
     }
@@ -308,7 +370,8 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
 
     /// `(K_JC - σ M_JC)^-1 rhs`.
     pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
-        let (n, nw) = (self.problem.coords.n_dof, self.problem.coords.n_w);
+        let n = self.problem.coords.n_dof;
+        let r = self.problem.rows.len();
         let nj = 2 * self.problem.harmonics;
         let k = rhs.ncols();
         match &self.factors {
@@ -316,20 +379,23 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
             Factors::Woodbury { b, y, cap } => {
                 // x0 = B^-1 rhs, cos and sin blocks of a harmonic in one solve.
                 let mut x = Mat::<f64>::zeros(nj * n, k);
-                for (hi, lu) in b.iter().enumerate() {
+                for hi in 0..nj / 2 {
                     let both = Mat::from_fn(n, 2 * k, |i, j| rhs[((2 * hi + j / k) * n + i, j % k)]);
-                    let sol = lu.solve(&both);
+                    let sol = b.get(hi).solve(&both);
                     for j in 0..2 * k {
                         for i in 0..n {
                             x[((2 * hi + j / k) * n + i, j % k)] = sol[(i, j)];
                         }
                     }
                 }
-                // u = (I + S R)^-1 S E x0; x = x0 - B^-1 E^T u.
-                let sex = &self.problem.s * gather_w(x.as_ref(), n, nw, nj);
+                if r == 0 {
+                    return x;
+                }
+                // u = (I + S R)^-1 S E_r x0; x = x0 - B^-1 E_r^T u.
+                let sex = &self.problem.s * gather(x.as_ref(), n, &self.problem.rows, nj);
                 let u = cap.solve(&sex);
                 for c in 0..nj {
-                    let corr = &y[c / 2] * u.as_ref().submatrix(c * nw, 0, nw, k);
+                    let corr = &y[c / 2] * u.as_ref().submatrix(c * r, 0, r, k);
                     let mut xc = x.as_mut().submatrix_mut(c * n, 0, n, k);
                     xc -= &corr;
                 }
@@ -596,12 +662,22 @@ pub fn shift_invert_eigenpairs_with(
     opts: &ModeOptions,
     how: ShiftedFactorisation,
 ) -> Result<Eigenpairs> {
-    let (lo, hi) = opts.band;
     let problem = CondensedProblem::new(coords, k_hat, g_ww)?;
+    problem_eigenpairs(&problem, opts, how)
+}
+
+/// [`shift_invert_eigenpairs`] of a structured problem, e.g. a pattern on a prediction's
+/// reference ([`CondensedProblem::on_reference`]), whose shift is the reference's (the band
+/// centre squared when the prediction made it), else the square of the band centre.
+///
+/// # Errors
+/// As [`shift_invert_eigenpairs`].
+pub fn problem_eigenpairs(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation) -> Result<Eigenpairs> {
+    let (lo, hi) = opts.band;
     let dim = problem.dim();
     let centre = 0.5 * (lo + hi);
-    let sigma = centre * centre;
-    let solve = ShiftedSolve::new(&problem, sigma, how)?;
+    let sigma = problem.reference.map_or(centre * centre, |r| r.shift());
+    let solve = ShiftedSolve::new(problem, sigma, how)?;
 
     // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
     // tolerance is relative.
@@ -648,8 +724,8 @@ pub fn shift_invert_eigenpairs_with(
             let lambda = c64::new(sigma + th.re / m2, -th.im / m2);
             pairs.push(Pair { lambda, v: normalised((0..dim).map(|i| vecs[(i, j)]).collect()) });
         }
-        refine(&problem, &op, &mut pairs)?;
-        complete(&problem, &mut pairs);
+        refine(problem, &op, &mut pairs)?;
+        complete(problem, &mut pairs);
         let all_found = nconv >= dim;
 
         // Selection as in the dense path.
@@ -688,7 +764,7 @@ pub fn shift_invert_eigenpairs_with(
     let mut eigenvalues = Vec::with_capacity(m);
     for (col, &j) in keep.iter().enumerate() {
         let p = &pairs[j];
-        let (raw, res) = residuals(&problem, p);
+        let (raw, res) = residuals(problem, p);
         if res.is_nan() || res >= RESIDUAL_TOLERANCE {
             return Err(JpError::Eigen {
                 what: format!("shift-invert eigenpair lambda = {:.6e}{:+.3e}i of (31): relative residual {raw:.2e} ({res:.2e} with the rounding floor)", p.lambda.re, p.lambda.im),
