@@ -702,7 +702,8 @@ pub struct BandSpec {
     pub points: usize,
     /// Continuation steps in the scaled arclength, the largest turn between chords, and the
     /// point cap of each sweep; unset keys take [`jprom::hbm::SweepOptions`]' defaults (the cap:
-    /// 20 x `points`, within 1,000 and 100,000).
+    /// 40 x `points`, within 2,000 and 100,000: a partial-slip resonance is a string of
+    /// stick-slip kinks, each of which takes a few points).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_step: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -725,7 +726,7 @@ impl BandSpec {
     pub fn sweep_options(&self) -> jprom::hbm::SweepOptions {
         let two_pi = 2.0 * std::f64::consts::PI;
         let mut s = jprom::hbm::SweepOptions {
-            max_points: (20 * self.points).clamp(1000, 100_000),
+            max_points: (40 * self.points).clamp(2000, 100_000),
             ..jprom::hbm::SweepOptions::with_points(two_pi * self.hz_start, two_pi * self.hz_end, self.points)
         };
         if let Some(v) = self.min_step {

@@ -26,7 +26,10 @@
 //!   retried at half the length (at most [`MAX_ANGLE_RETRIES`] times). A turn that does not
 //!   shrink with the step (still above [`CORNER_RATIO`] of the longer step's) is a corner of the
 //!   branch, where a contact changes state: that step is taken, and the next one goes on with
-//!   the step planned before the corner instead of a step shrunk by the corner's angle.
+//!   the step planned before the corner instead of a step shrunk by the corner's angle; unless
+//!   the corner moves the frequency back against the direction of travel (a chord sideways,
+//!   after which the sweep would retrace the branch): that step is halved instead, down to the
+//!   restart below.
 //! * **Step control**: after a success `ds` is scaled by the smaller of
 //!   `target_iterations / iterations` and `max_angle / (2 angle)` (the angle between successive
 //!   chords), each clamped to `[1/2, 2]`, within `[min_step, max_step]`, and capped so that
@@ -471,7 +474,19 @@ pub fn sweep_from(
                 let angle = metric.dot(&dir, &chord).clamp(-1.0, 1.0).acos();
                 Ok((c, chord, angle))
             });
+            // a step that moves the frequency against the direction of travel
+            let reverses = |c: &Corrected| dir[n] * (c.y[n] - y[n]) < 0.0;
             match verdict {
+                // A corner that turns the sweep back in frequency is not taken: that chord
+                // lands sideways, on another piece of the branch or off it (on the
+                // 18-contact blade's NLR at alpha_ST / 20 one turned by 62 degrees and the
+                // sweep then retraced the branch down the band for 200 points). A shorter
+                // step, or the restart at fixed frequency, goes on instead.
+                Ok(v) if v.2 > sharp_turn(sopts) && last_turn.is_some_and(|t| v.2 > CORNER_RATIO * t) && reverses(&v.0) => {
+                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a corner of {:.2} rad back in frequency", v.2), iterations: 0, residual: f64::NAN });
+                    result.rejected_steps += 1;
+                    ds *= 0.5;
+                }
                 // A turn that does not shrink with the step is a corner of the branch (a
                 // contact changing state): no shorter step would turn less, so take it.
                 Ok(v) if v.2 > sharp_turn(sopts) && last_turn.is_some_and(|t| v.2 > CORNER_RATIO * t) => {
