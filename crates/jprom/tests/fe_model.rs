@@ -193,3 +193,33 @@ fn fixed_dofs_are_removed_from_the_fe_model() {
     let e = clamped.with_fixed(&[(out[0], 1)]).unwrap_err().to_string();
     assert!(e.contains(&format!("node {}", out[0])) && e.contains("no active direction 1"), "{e}");
 }
+
+/// `FeModel::unreduced`: the block without Craig-Bampton (every FE DoF, dense) has ccx's
+/// frequencies, the contacts, loads and outputs on the nodes' own DoFs, and is the limit the
+/// reduced models converge to from above.
+#[test]
+fn calculix_block_unreduced_has_calculix_frequencies_and_bounds_the_reduced_ones() {
+    let ccx = read_model(&data("block").join("block.inp")).unwrap();
+    let fe = FeModel::from_calculix(&ccx).unwrap();
+    let spec = block_reduction(&ccx, 12);
+    let full = fe.unreduced(&spec, Damping::default()).unwrap();
+    assert_eq!(full.n_dof(), fe.n_dof());
+    let tip = ccx.node_set("TIP").unwrap();
+    for (c, &node) in full.contacts.iter().zip(tip) {
+        assert_eq!(c.dofs_a, fe.node(node).unwrap().translations().unwrap().to_vec());
+    }
+    let out = ccx.node_set("OUT").unwrap();
+    assert_eq!(full.output_dofs, out.iter().map(|&id| fe.node(id).unwrap().translations().unwrap()[1]).collect::<Vec<_>>());
+    let load = ccx.node_set("LOAD").unwrap();
+    let total: f64 = full.excitation.harmonics[0].cos.iter().sum();
+    assert_eq!(total, load.len() as f64, "one unit force along y per LOAD node");
+    let reference = dat_frequencies(&data("block").join("block_freq.dat"));
+    let f = free_hz(&full);
+    let reduced = free_hz(&fe.reduce(&spec, Damping::default()).unwrap());
+    for i in 0..4 {
+        let e = f[i] / reference[i] - 1.0;
+        println!("mode {i}: unreduced {:.6} Hz, ccx {:.6} Hz ({e:.1e}), CB(12) {:.6} Hz", f[i], reference[i], reduced[i]);
+        assert!(e.abs() < 2e-5, "mode {i}: {e:.2e} from ccx");
+        assert!(reduced[i] >= f[i] * (1.0 - 1e-9), "mode {i}: CB below the unreduced model");
+    }
+}

@@ -87,6 +87,10 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     // without the constraint modes the estimate is smaller by n_i x n_b values
     let lean = jprom::fe::craig_bampton::working_set_bytes(n - 90, 90, 20, false, false);
     assert_eq!(need - lean, 8 * ((n - 90) * 90) as u128);
+    // the unreduced FE model (JP without Craig-Bampton): dense M and K, 2 n^2 doubles
+    let e = blade.to_full_model(jprom::model::Damping::default()).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == 16 * (n as u128).pow(2)), "{e:?}");
+    assert!(e.to_string().contains(&format!("the dense FE model of the blade ({n} DoFs, M and K)")), "{e}");
 
     // the prediction solves as many patterns at once as fit: a budget of one and a half patterns
     // runs them one at a time (it refused before, asking for a pattern per thread), and a

@@ -488,6 +488,27 @@ impl BladeFe {
         Ok(e.eigenvalues.iter().map(|l| l.sqrt() / (2.0 * std::f64::consts::PI)).collect())
     }
 
+    /// The FE model itself as a jprom [`Model`], without reduction: dense `M` and `K` of all
+    /// `n` DoFs, the contacts on the contact nodes' FE DoFs, the outputs on the output nodes'
+    /// DoFs, the full load vectors. JP then runs directly on the FE model (docs/formulation.md
+    /// §12, "JP without Craig-Bampton"); [`BladeFe::reduce`] and [`CbModel::to_model`] give the
+    /// same structure through Craig-Bampton. Dense: for FE models up to a few thousand DoFs
+    /// (`2 n^2` doubles, checked against the memory budget before anything is allocated).
+    ///
+    /// # Errors
+    /// [`JpError::TooLarge`] past the memory budget; as [`Model::new`].
+    pub fn to_full_model(&self, damping: Damping) -> Result<Model> {
+        let n = self.n_dof();
+        crate::memory::check(&format!("the dense FE model of the blade ({n} DoFs, M and K)"), 16u128.saturating_mul((n as u128).pow(2)))?;
+        let excitation = Excitation {
+            static_force: self.static_force.clone(),
+            harmonics: vec![HarmonicForce { cos: self.harmonic_force.clone(), sin: vec![0.0; n] }],
+            dynamic_scale: 1.0,
+        };
+        let contacts = self.contacts.iter().map(|c| Contact::ground_3d(c.dofs, c.frame, self.contact_law.clone())).collect();
+        Model::new(self.mass.as_ref().to_dense(), self.stiffness.as_ref().to_dense(), damping, excitation, contacts, self.output_dofs.clone())
+    }
+
     /// Craig-Bampton reduction keeping the contact and output DoFs and `n_modes` interior modes.
     ///
     /// # Errors

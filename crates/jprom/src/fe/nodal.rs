@@ -14,7 +14,7 @@ use crate::error::{JpError, Result};
 use crate::io::calculix::CalculixModel;
 use crate::io::dof_map::DofMap;
 use crate::linalg::SparseMat;
-use crate::model::{Damping, Model};
+use crate::model::{Damping, Excitation, HarmonicForce, Model};
 use std::collections::{BTreeMap, HashMap};
 
 /// Directions of a node's DoFs: translations x, y, z (0, 1, 2), rotations (3, 4, 5).
@@ -410,27 +410,7 @@ impl FeModel {
     /// A node that is not in the model or lacks a translation, a contact node given twice;
     /// Craig-Bampton's and [`Model::new`]'s errors.
     pub fn reduce(&self, spec: &Reduction, damping: Damping) -> Result<Model> {
-        let mut boundary_nodes: Vec<i64> = Vec::new();
-        for c in &spec.contacts {
-            self.node(c.node)?.translations()?;
-            if boundary_nodes.contains(&c.node) {
-                return Err(JpError::invalid(format!("node {}", c.node), "is a contact node twice"));
-            }
-            boundary_nodes.push(c.node);
-        }
-        let others = spec.static_forces.iter().chain(&spec.harmonic_forces).map(|f| f.node);
-        let others = others.chain(spec.outputs.iter().map(|o| o.0)).chain(spec.extra_nodes.iter().copied());
-        for id in others {
-            self.node(id)?.translations()?;
-            if !boundary_nodes.contains(&id) {
-                boundary_nodes.push(id);
-            }
-        }
-        for &(id, d) in &spec.outputs {
-            if d >= 3 {
-                return Err(JpError::invalid(format!("output at node {id}"), format!("direction {d} is not a translation (0, 1, 2)")));
-            }
-        }
+        let boundary_nodes = self.kept_nodes(spec)?;
         let pos: HashMap<i64, usize> = boundary_nodes.iter().enumerate().map(|(p, &id)| (id, p)).collect();
         let mut boundary = Vec::with_capacity(3 * boundary_nodes.len());
         for &id in &boundary_nodes {
@@ -464,6 +444,73 @@ impl FeModel {
             cb,
         };
         model.to_model(damping)
+    }
+
+    /// The nodes `spec` names, checked (in the model, with translations, a contact node once,
+    /// output directions 0..3): the contact nodes in order, then the loaded, output and extra
+    /// nodes, each once.
+    fn kept_nodes(&self, spec: &Reduction) -> Result<Vec<i64>> {
+        let mut nodes: Vec<i64> = Vec::new();
+        for c in &spec.contacts {
+            self.node(c.node)?.translations()?;
+            if nodes.contains(&c.node) {
+                return Err(JpError::invalid(format!("node {}", c.node), "is a contact node twice"));
+            }
+            nodes.push(c.node);
+        }
+        let others = spec.static_forces.iter().chain(&spec.harmonic_forces).map(|f| f.node);
+        let others = others.chain(spec.outputs.iter().map(|o| o.0)).chain(spec.extra_nodes.iter().copied());
+        for id in others {
+            self.node(id)?.translations()?;
+            if !nodes.contains(&id) {
+                nodes.push(id);
+            }
+        }
+        for &(id, d) in &spec.outputs {
+            if d >= 3 {
+                return Err(JpError::invalid(format!("output at node {id}"), format!("direction {d} is not a translation (0, 1, 2)")));
+            }
+        }
+        Ok(nodes)
+    }
+
+    /// The model without reduction: every FE DoF kept, dense `M`, `K` (and the FE code's `C`),
+    /// the contacts, loads and outputs of `spec` on the nodes' own DoFs (`cb_modes`,
+    /// `cb_cutoff_hz` and `extra_nodes` do not apply). JP then runs on the FE model itself
+    /// (docs/formulation.md §12, "JP without Craig-Bampton"), the reference for
+    /// [`FeModel::reduce`]. Dense: for FE models up to a few thousand DoFs (`2 n^2` doubles,
+    /// `3 n^2` with `C`, checked against the memory budget before anything is allocated).
+    ///
+    /// # Errors
+    /// As [`FeModel::reduce`] for the nodes; [`JpError::TooLarge`] past the memory budget;
+    /// [`Model::new`]'s errors.
+    pub fn unreduced(&self, spec: &Reduction, damping: Damping) -> Result<Model> {
+        self.kept_nodes(spec)?;
+        let n = self.n_dof();
+        let matrices = if self.damping.is_some() { 3u128 } else { 2 };
+        crate::memory::check(&format!("the unreduced FE model ({n} DoFs, dense M, K{})", if matrices == 3 { ", C" } else { "" }), matrices * 8 * (n as u128).pow(2))?;
+        let place = |forces: &[NodalForce]| -> Result<Vec<f64>> {
+            let mut f = vec![0.0; n];
+            for l in forces {
+                for (a, d) in self.node(l.node)?.translations()?.into_iter().enumerate() {
+                    f[d] += l.force[a];
+                }
+            }
+            Ok(f)
+        };
+        let excitation = Excitation {
+            static_force: place(&spec.static_forces)?,
+            harmonics: vec![HarmonicForce { cos: place(&spec.harmonic_forces)?, sin: vec![0.0; n] }],
+            dynamic_scale: 1.0,
+        };
+        let contacts = spec.contacts.iter().map(|c| Ok(Contact::ground_3d(self.node(c.node)?.translations()?, c.frame, c.law.clone()))).collect::<Result<Vec<_>>>()?;
+        let outputs = spec.outputs.iter().map(|&(id, d)| Ok(self.node(id)?.translations()?[d])).collect::<Result<Vec<_>>>()?;
+        let mut model = Model::new(self.mass.as_ref().to_dense(), self.stiffness.as_ref().to_dense(), damping, excitation, contacts, outputs)?;
+        if let Some(c) = &self.damping {
+            model.added_damping = Some(c.as_ref().to_dense());
+            model.validate()?;
+        }
+        Ok(model)
     }
 }
 

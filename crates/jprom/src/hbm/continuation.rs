@@ -26,10 +26,10 @@
 //!   retried at half the length (at most [`MAX_ANGLE_RETRIES`] times). A turn that does not
 //!   shrink with the step (still above [`CORNER_RATIO`] of the longer step's) is a corner of the
 //!   branch, where a contact changes state: that step is taken, and the next one goes on with
-//!   the step planned before the corner instead of a step shrunk by the corner's angle; unless
-//!   the corner moves the frequency back against the direction of travel (a chord sideways,
-//!   after which the sweep would retrace the branch): that step is halved instead, down to the
-//!   restart below.
+//!   the step planned before the corner instead of a step shrunk by the corner's angle. A step
+//!   back in frequency that lands on the part of the branch already traced ([`retraces`]) is
+//!   halved instead, down to the restart below (a fold goes on along another part of the
+//!   branch and is taken).
 //! * **Step control**: after a success `ds` is scaled by the smaller of
 //!   `target_iterations / iterations` and `max_angle / (2 angle)` (the angle between successive
 //!   chords), each clamped to `[1/2, 2]`, within `[min_step, max_step]`, and capped so that
@@ -69,6 +69,30 @@ pub(crate) const MAX_RESTARTS: usize = 10;
 /// `max_angle`, at least 0.5 rad.
 pub(crate) fn sharp_turn(sopts: &SweepOptions) -> f64 {
     (3.0 * sopts.max_angle).max(0.5)
+}
+
+/// How many of the last points [`retraces`] compares a step back in frequency with.
+pub(crate) const RETRACE_WINDOW: usize = 50;
+
+/// Whether the corrected point `c` (`[z; omega]`), reached from the last point `y` by a step
+/// back in frequency (against the band's direction), lies on the branch already traced: within half that step (in the metric)
+/// of the straight line between two successive of the last [`RETRACE_WINDOW`] points whose
+/// frequencies bracket its own. Past a fold the branch goes on at another response, about
+/// twice the step away from the traced part at the same frequency, and is not a retrace.
+fn retraces(points: &[PointSolution], c: &[f64], y: &[f64], m: Metric) -> bool {
+    let n = c.len() - 1;
+    let d: Vec<f64> = c.iter().zip(y).map(|(a, b)| a - b).collect();
+    let step = m.dot(&d, &d).sqrt();
+    let recent = &points[points.len().saturating_sub(RETRACE_WINDOW)..];
+    recent.windows(2).any(|w| {
+        let (a, b) = (&w[0], &w[1]);
+        if (c[n] - a.omega) * (c[n] - b.omega) > 0.0 || a.omega == b.omega || a.z.len() != n || b.z.len() != n {
+            return false;
+        }
+        let s = (c[n] - a.omega) / (b.omega - a.omega);
+        let gap: f64 = (0..n).map(|i| (c[i] - a.z[i] - s * (b.z[i] - a.z[i])).powi(2)).sum();
+        (m.sz * gap).sqrt() < 0.5 * step
+    })
 }
 
 /// Tolerance on the arclength constraint, relative to the step.
@@ -474,16 +498,17 @@ pub fn sweep_from(
                 let angle = metric.dot(&dir, &chord).clamp(-1.0, 1.0).acos();
                 Ok((c, chord, angle))
             });
-            // a step that moves the frequency against the direction of travel
-            let reverses = |c: &Corrected| dir[n] * (c.y[n] - y[n]) < 0.0;
+            // a step back in frequency (against the band's direction: also after a turn) onto
+            // the part of the branch already traced
+            let back_onto_branch = |c: &Corrected| direction * (c.y[n] - y[n]) < 0.0 && retraces(&result.points, &c.y, &y, metric);
             match verdict {
-                // A corner that turns the sweep back in frequency is not taken: that chord
-                // lands sideways, on another piece of the branch or off it (on the
-                // 18-contact blade's NLR at alpha_ST / 20 one turned by 62 degrees and the
-                // sweep then retraced the branch down the band for 200 points). A shorter
-                // step, or the restart at fixed frequency, goes on instead.
-                Ok(v) if v.2 > sharp_turn(sopts) && last_turn.is_some_and(|t| v.2 > CORNER_RATIO * t) && reverses(&v.0) => {
-                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a corner of {:.2} rad back in frequency", v.2), iterations: 0, residual: f64::NAN });
+                // A step that would retrace the branch is not taken (its step is halved, down
+                // to the restart): on the 18-contact blade's NLR at alpha_ST / 20 a corner of 62
+                // degrees went back in frequency onto the branch, and the tangent there, oriented
+                // along that chord, led the sweep 200 points back down the band. A fold, where the
+                // branch does turn back, goes on along another part of it and is taken.
+                Ok(v) if back_onto_branch(&v.0) => {
+                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a step of {:.2} rad back onto the branch already traced", v.2), iterations: 0, residual: f64::NAN });
                     result.rejected_steps += 1;
                     ds *= 0.5;
                 }
