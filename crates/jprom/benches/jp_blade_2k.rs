@@ -21,6 +21,21 @@
 //! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
 //! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
 //!
+//! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
+//! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):
+//!
+//! | contacts | n_w | basis s | sizes | FR s/point | NLR s/point | e*_1 (FR) | peak RSS |
+//! |---|---|---|---|---|---|---|---|
+//! | 18 | 54 | 0.2 (per pattern, dense eigen solve) | [30, 9] | 0.002 | 0.006 | 0.040 | 0.3 GB |
+//! | 242 | 726 | 3.4 (shared reference) | [34, 8] | 0.036 | 0.036 | 0.056 | 0.4 GB |
+//! | 1,922 | 5,766 | 493 (shared reference) | [32, 10] | 0.247 | 0.246 | 0.040 | 8.1 GB |
+//!
+//! Exponents `d ln t / d ln n_c`: basis 1.1 (18 to 242), 2.4 (242 to 1,922), 1.7 overall; FR
+//! per point 1.1, 0.9, 1.0 overall; NLR per point 0.7, 0.9, 0.8 overall. The basis grows
+//! super-linearly past a few hundred contacts because the patterns at the largest amplitudes
+//! (most contacts slipping) differ from the reference (the first, near-stuck sample) at every
+//! contact, and such a fully active pattern factorises a `2H n_w` capacitance matrix.
+//!
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
 //! `JPROM_2K_H` (default 1), `JPROM_2K_STOP=cb` to stop after the Craig-Bampton reduction,
