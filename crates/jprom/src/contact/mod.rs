@@ -215,6 +215,31 @@ impl ContactLaw {
         }
     }
 
+    /// Linear stiffness of the closed contact in gross slip, as a full `dim x dim` column-major
+    /// block: the normal springs alone (tangential friction forces do not grow with the
+    /// displacement), `diag(0, 0, kn)` for [`ContactLaw::Friction3D`], `diag(0, kn)` for
+    /// [`ContactLaw::Friction2D`], `0` for [`ContactLaw::Jenkins`]; the stuck stiffness of the
+    /// laws without friction; summed over parallel laws. `None` for an [`ContactLaw::External`]
+    /// law (its slipping limit is not known). The other linear limit besides
+    /// [`ContactLaw::stuck_stiffness_block`] (docs/formulation.md §8.8).
+    pub fn slipping_stiffness_block(&self) -> Option<Vec<f64>> {
+        let d = self.dim();
+        let mut k = vec![0.0; d * d];
+        for law in self.members() {
+            let diag = match law {
+                ContactLaw::External(_) => return None,
+                ContactLaw::Friction3D { kn, .. } => vec![0.0, 0.0, *kn],
+                ContactLaw::Friction2D { kn, .. } => vec![0.0, *kn],
+                ContactLaw::Jenkins { .. } => vec![0.0],
+                other => other.stuck_stiffness(),
+            };
+            for (i, v) in diag.into_iter().enumerate() {
+                k[i + i * d] += v;
+            }
+        }
+        Some(k)
+    }
+
     /// A short name of the law for messages ("Friction3D", "Polynomial", ...).
     pub fn name(&self) -> &'static str {
         match self {

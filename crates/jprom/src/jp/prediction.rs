@@ -8,6 +8,14 @@
 //!   stuck resonance; for a given shape (a reduced solution's first harmonic, (39))
 //!   [`GIVEN_SHAPE_P_MAX`] times the shape; or a user value.
 //!
+//! At gross slip the stuck mode is a poor generating shape (the response follows the mode of
+//! the structure whose contacts slip, far below the stuck resonance). On request
+//! ([`SlippingSamples`]: always, or when the linear stuck response is at least
+//! [`GROSS_SLIP_RATIO`] times the amplitude at which slip begins, `p̂_max >= 50 p̂_min`, about
+//! `alpha <= alpha_ST / 50`) the contacts are also sampled along the **slipping mode**
+//! ([`slipping_mode`]), the same way, with the same number of samples; the slipping patterns'
+//! modes are conditioned on their own and united with the stuck ones (docs/formulation.md §8.8).
+//!
 //! `p̂` is oversampled (default 100 values, logarithmic spacing — slip spreads over the contact
 //! over decades of amplitude, so log spacing meets more distinct patterns; linear spacing is an
 //! option, and is used when `p̂_min = 0`), each sample's contact-state pattern (state of every
@@ -66,6 +74,25 @@ fn in_parallel<T: Sync>(at_once: usize, items: &[T], f: impl Fn(&T) -> Result<Jp
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
 pub const GIVEN_SHAPE_P_MAX: f64 = 1.25;
 
+/// `p̂_max / p̂_min` along the stuck mode from which [`SlippingSamples::AtGrossSlip`] samples along the
+/// slipping mode as well: the linear stuck response is 50 times the amplitude where slip
+/// begins, so the contacts slip over most of the cycle (a Jenkins element at 50 times its slip
+/// amplitude sticks for 9 % of each half cycle). On the built-in blade `p̂_max / p̂_min` is about
+/// `0.93 alpha_ST / alpha`.
+pub const GROSS_SLIP_RATIO: f64 = 50.0;
+
+/// Whether [`predict_basis`] samples along the slipping mode besides the stuck mode (only with
+/// [`GeneratingShape::StuckMode`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SlippingSamples {
+    /// Along the stuck mode only (the paper's prediction).
+    #[default]
+    Never,
+    /// When `p̂_max >= `[`GROSS_SLIP_RATIO`]` p̂_min` along the stuck mode.
+    AtGrossSlip,
+    Always,
+}
+
 /// Spacing of the `p̂` samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Spacing {
@@ -112,6 +139,13 @@ pub struct PredictionOptions {
     /// [`PatternFactorisation::Auto`]).
     #[serde(default)]
     pub factorisation: PatternFactorisation,
+    /// Samples along the slipping mode as well (default [`SlippingSamples::Never`]). Measured on
+    /// the 18-contact blade at alpha_ST / 3000 over 1,620-2,200 Hz (gamma 1e3, no correction):
+    /// the stuck-mode basis put the FR resonance at the band's edge, 97 % off in `|X1|`; with the
+    /// slipping samples the FR peak is within 1.1e-4 (tests/slipping_samples.rs). `p_max`
+    /// applies to the stuck mode; the slipping mode's is its linear estimate.
+    #[serde(default)]
+    pub slipping: SlippingSamples,
 }
 
 /// How [`predict_basis`] factorises the model-sized matrices of its contact patterns.
@@ -144,6 +178,7 @@ impl PredictionOptions {
             p_max: None,
             shape: GeneratingShape::StuckMode,
             factorisation: PatternFactorisation::Auto,
+            slipping: SlippingSamples::Never,
         }
     }
 }
@@ -158,8 +193,15 @@ pub struct PredictionReport {
     pub n_samples: usize,
     /// Number of distinct contact-state patterns (boundary conditions) used.
     pub n_patterns: usize,
-    /// `p̂` of the first sample of each distinct pattern.
+    /// `p̂` of the first sample of each distinct pattern (along the slipping mode for the last
+    /// [`PredictionReport::slipping_patterns`]).
     pub pattern_amplitudes: Vec<f64>,
+    /// The slipping mode's frequency (rad/s) when the contacts were also sampled along it
+    /// ([`SlippingSamples`]), and how many of the distinct patterns came from it.
+    #[serde(default)]
+    pub omega_slipping: Option<f64>,
+    #[serde(default)]
+    pub slipping_patterns: usize,
     /// On a shared reference ([`PatternFactorisation`]): the number of active contact
     /// coordinates of each distinct pattern (0 for the reference itself); `None` per pattern.
     #[serde(default)]
@@ -188,6 +230,38 @@ pub fn stuck_mode(coords: &ContactCoordinates, band: (f64, f64)) -> Result<(f64,
     let nrm = norm2(&phi).copysign(big);
     phi.iter_mut().for_each(|x| *x /= nrm);
     Ok((lambda.max(0.0).sqrt(), phi))
+}
+
+/// Slipping modes [`slipping_mode`] chooses from: the nearest the band centre.
+const SLIPPING_CANDIDATES: usize = 4;
+
+/// The slipping linear mode of the band (docs/formulation.md §8.8): of the
+/// [`SLIPPING_CANDIDATES`] modes of `K` plus the contacts' gross-slip springs
+/// ([`ContactCoordinates::slipping_stiffness`]: normal springs only) nearest the band centre,
+/// the one most like the stuck mode `phi_st` (largest `|φ^T M Φ_ST|` over `|φ|_M |Φ_ST|_M`),
+/// the mode the stuck one softens into as the contacts slip. `(omega, φ)`, `φ` of unit length,
+/// largest entry positive. `None` when the model has no friction (the slipping stiffness is the
+/// stuck one) or a law whose slipping limit is unknown.
+///
+/// # Errors
+/// [`JpError::Eigen`] if the subspace iteration fails.
+pub fn slipping_mode(coords: &ContactCoordinates, band: (f64, f64), phi_st: &[f64]) -> Result<Option<(f64, Vec<f64>)>> {
+    let Some(k) = coords.slipping_stiffness() else { return Ok(None) };
+    if k == coords.stuck_stiffness() {
+        return Ok(None);
+    }
+    let centre = 0.5 * (band.0 + band.1);
+    let pairs = crate::linalg::eigen::generalized_eigenpairs_nearest(&k, &coords.mass, centre * centre, SLIPPING_CANDIDATES, "slipping modes")?;
+    let m = &coords.mass;
+    let n = coords.n_dof;
+    let m_dot = |a: &[f64], b: &[f64]| -> f64 { (0..n).map(|j| b[j] * (0..n).map(|i| a[i] * m[(i, j)]).sum::<f64>()).sum() };
+    let st = m_dot(phi_st, phi_st).max(f64::MIN_POSITIVE);
+    let likeness = |x: &[f64]| m_dot(x, phi_st).abs() / (m_dot(x, x).max(f64::MIN_POSITIVE) * st).sqrt();
+    let Some((lambda, mut phi)) = pairs.into_iter().max_by(|a, b| likeness(&a.1).total_cmp(&likeness(&b.1))) else { return Ok(None) };
+    let big = phi.iter().copied().fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
+    let nrm = norm2(&phi).copysign(big);
+    phi.iter_mut().for_each(|x| *x /= nrm);
+    Ok(Some((lambda.max(0.0).sqrt(), phi)))
 }
 
 /// Harmonic-major contact displacement with static part `q0` and first harmonic `(c, s)`.
@@ -273,10 +347,10 @@ pub fn static_solution(coords: &ContactCoordinates) -> Result<Vec<f64>> {
     Err(JpError::NoConvergence { what: "static solution with contacts".into(), iterations: 60, residual: rn / scale })
 }
 
-/// Linear estimate `|(D_1 + K̂_ST)^-1 f_E^1|` at `omega` (cos and sin parts together).
-fn linear_response_norm(coords: &ContactCoordinates, omega: f64) -> Result<f64> {
+/// Linear estimate `|(D_1 + K̂)^-1 f_E^1|` at `omega` (cos and sin parts together), `K + K̂`
+/// the linear limit's stiffness `k` (stuck or slipping).
+fn linear_response_norm(coords: &ContactCoordinates, k: &Mat<f64>, omega: f64) -> Result<f64> {
     let n = coords.n_dof;
-    let k = coords.stuck_stiffness();
     let (fc, fs) = coords
         .harmonic_force
         .first()
@@ -293,7 +367,7 @@ fn linear_response_norm(coords: &ContactCoordinates, omega: f64) -> Result<f64> 
         }
     }
     let b = Mat::from_fn(2 * n, 1, |i, _| if i < n { fc[i] } else { fs[i - n] });
-    let x = lu_solve("D_1 + K̂_ST at the stuck resonance", &a, &b)?;
+    let x = lu_solve("D_1 + K̂ of a linear limit at its resonance", &a, &b)?;
     Ok(x.norm_l2())
 }
 
@@ -306,45 +380,29 @@ fn pattern(forces: &ContactForces) -> Vec<u8> {
     forces.cycles.iter().flat_map(|c| c.states.iter().map(|&s| s as u8)).collect()
 }
 
-/// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution, with the
-/// harmonics `H` and AFT samples of `coords` ([`ContactCoordinates::discretisation`]).
-///
-/// # Errors
-/// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
-pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
-    let n = coords.n_dof;
-    let nw = coords.n_w;
-    let plan = &coords.discretisation.plan()?;
-    let hh = plan.harmonics();
-    if opts.n_samples == 0 {
-        return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
-    }
-    let q_static = static_solution(coords)?;
-    let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
-        GeneratingShape::StuckMode => {
-            let (w_st, phi) = stuck_mode(coords, opts.modes.band)?;
-            let p_est = linear_response_norm(coords, w_st)? / norm2(&phi);
-            (Some(w_st), q_static.clone(), phi, vec![0.0; n], p_est)
-        }
-        GeneratingShape::Given { static_part, cos, sin } => {
-            if cos.len() != n || sin.len() != n {
-                return Err(JpError::bad_size("generating shape", n, cos.len().min(sin.len())));
-            }
-            let q0 = match static_part {
-                Some(q) if q.len() == n => q.clone(),
-                Some(q) => return Err(JpError::bad_size("generating shape static part", n, q.len())),
-                None => q_static.clone(),
-            };
-            (None, q0, cos.clone(), sin.clone(), GIVEN_SHAPE_P_MAX)
-        }
-    };
-    let p_max = opts.p_max.unwrap_or(p_est);
-    if !(p_max.is_finite() && p_max > 0.0) {
-        return Err(JpError::invalid("p_max", format!("must be finite and > 0, got {p_max}")));
-    }
-    let at = |p: f64, jac: bool| eval(coords, plan, &contact_w(nw, hh, &q0, &c, &s, p), jac, true);
+/// One sample of the prediction whose contact-state pattern was new: its amplitude along its
+/// generating shape, its contact displacement and forces.
+struct Sampled {
+    p: f64,
+    w: Vec<f64>,
+    forces: ContactForces,
+}
 
-    // p̂_min by bisection on "all stuck".
+/// Samples the contacts along one generating shape (static part `q0`, first harmonic
+/// `(c, s)`): `p̂_min` by bisection on "all stuck", `opts.n_samples` amplitudes up to `p_max`
+/// (`opts.spacing`), and each sample whose pattern is not in `seen` appended to `chosen`.
+/// Returns `p̂_min`.
+fn sample_shape(
+    coords: &ContactCoordinates,
+    plan: &AftPlan,
+    opts: &PredictionOptions,
+    (q0, c, s): (&[f64], &[f64], &[f64]),
+    p_max: f64,
+    seen: &mut HashSet<Vec<u8>>,
+    chosen: &mut Vec<Sampled>,
+) -> Result<f64> {
+    let (nw, hh) = (coords.n_w, plan.harmonics());
+    let at = |p: f64, jac: bool| eval(coords, plan, &contact_w(nw, hh, q0, c, s, p), jac, true);
     let p_min = if all_stuck(&at(p_max, false)?) {
         p_max
     } else if !all_stuck(&at(0.0, false)?) {
@@ -365,27 +423,84 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         lo
     };
     let ns = opts.n_samples;
-    let samples: Vec<f64> = (0..ns)
-        .map(|k| {
-            let t = if ns == 1 { 1.0 } else { k as f64 / (ns - 1) as f64 };
-            match opts.spacing {
-                Spacing::Log if p_min > 0.0 => p_min * (p_max / p_min).powf(t),
-                _ => p_min + t * (p_max - p_min),
-            }
-        })
-        .collect();
+    for k in 0..ns {
+        let t = if ns == 1 { 1.0 } else { k as f64 / (ns - 1) as f64 };
+        let p = match opts.spacing {
+            Spacing::Log if p_min > 0.0 => p_min * (p_max / p_min).powf(t),
+            _ => p_min + t * (p_max - p_min),
+        };
+        let w = contact_w(nw, hh, q0, c, s, p);
+        let forces = eval(coords, plan, &w, true, true)?;
+        if seen.insert(pattern(&forces)) {
+            chosen.push(Sampled { p, w, forces });
+        }
+    }
+    Ok(p_min)
+}
 
+/// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution, with the
+/// harmonics `H` and AFT samples of `coords` ([`ContactCoordinates::discretisation`]).
+///
+/// # Errors
+/// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
+pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
+    let n = coords.n_dof;
+    let nw = coords.n_w;
+    let plan = &coords.discretisation.plan()?;
+    let hh = plan.harmonics();
+    if opts.n_samples == 0 {
+        return Err(JpError::invalid("PredictionOptions.n_samples", "must be >= 1"));
+    }
+    let q_static = static_solution(coords)?;
+    let (omega_stuck, q0, c, s, p_est) = match &opts.shape {
+        GeneratingShape::StuckMode => {
+            let (w_st, phi) = stuck_mode(coords, opts.modes.band)?;
+            let p_est = linear_response_norm(coords, &coords.stuck_stiffness(), w_st)? / norm2(&phi);
+            (Some(w_st), q_static.clone(), phi, vec![0.0; n], p_est)
+        }
+        GeneratingShape::Given { static_part, cos, sin } => {
+            if cos.len() != n || sin.len() != n {
+                return Err(JpError::bad_size("generating shape", n, cos.len().min(sin.len())));
+            }
+            let q0 = match static_part {
+                Some(q) if q.len() == n => q.clone(),
+                Some(q) => return Err(JpError::bad_size("generating shape static part", n, q.len())),
+                None => q_static.clone(),
+            };
+            (None, q0, cos.clone(), sin.clone(), GIVEN_SHAPE_P_MAX)
+        }
+    };
+    let p_max = opts.p_max.unwrap_or(p_est);
+    if !(p_max.is_finite() && p_max > 0.0) {
+        return Err(JpError::invalid("p_max", format!("must be finite and > 0, got {p_max}")));
+    }
     // Distinct patterns; their boundary conditions (the dense K̂, `((2H + 1) n_w)^2`) are
     // assembled one pattern at a time, inside the JP-mode solve.
     let mut seen = HashSet::new();
-    let mut chosen: Vec<(f64, ContactForces)> = Vec::new();
-    for &p in &samples {
-        let forces = at(p, true)?;
-        if seen.insert(pattern(&forces)) {
-            chosen.push((p, forces));
+    let mut chosen: Vec<Sampled> = Vec::new();
+    let p_min = sample_shape(coords, plan, opts, (&q0, &c, &s), p_max, &mut seen, &mut chosen)?;
+    let ns = opts.n_samples;
+
+    // At gross slip, along the slipping mode as well (module doc).
+    let mut omega_slipping = None;
+    let mut slipping_patterns = 0;
+    let slipping_wanted = match opts.slipping {
+        SlippingSamples::AtGrossSlip => p_min > 0.0 && p_max >= GROSS_SLIP_RATIO * p_min,
+        SlippingSamples::Always => true,
+        SlippingSamples::Never => false,
+    };
+    if slipping_wanted && omega_stuck.is_some() {
+        if let (Some((w_sl, phi_sl)), Some(k_sl)) = (slipping_mode(coords, opts.modes.band, &c)?, coords.slipping_stiffness()) {
+            let p_sl = linear_response_norm(coords, &k_sl, w_sl)? / norm2(&phi_sl);
+            if !(p_sl.is_finite() && p_sl > 0.0) {
+                return Err(JpError::invalid("slipping mode", format!("its linear response estimate is {p_sl} (no damping?)")));
+            }
+            let before = chosen.len();
+            sample_shape(coords, plan, opts, (&q_static, &phi_sl, &vec![0.0; n]), p_sl, &mut seen, &mut chosen)?;
+            slipping_patterns = chosen.len() - before;
+            omega_slipping = Some(w_sl);
         }
     }
-    let w_of = |p: f64| contact_w(nw, hh, &q0, &c, &s, p);
     let budget = crate::memory::MemoryBudget::global().bytes;
     let check = |at_once: usize, per_pattern: u128, shared: u128, how: &str| -> Result<u128> {
         let bytes = per_pattern.saturating_mul(at_once as u128).saturating_add(shared);
@@ -409,7 +524,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     };
     let centre = 0.5 * (opts.modes.band.0 + opts.modes.band.1);
     let reference = if use_reference {
-        match ReferenceFactors::from_forces(coords, &chosen[0].1, hh, centre * centre) {
+        match ReferenceFactors::from_forces(coords, &chosen[0].forces, hh, centre * centre) {
             Ok(r) => Some(r),
             Err(JpError::SingularMatrix { .. }) if opts.factorisation == PatternFactorisation::Auto => None,
             Err(e) => return Err(e),
@@ -420,7 +535,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
 
     let modes: Vec<JpModes> = match &reference {
         Some(reference) => {
-            let parts: Vec<ActivePart> = chosen.iter().map(|(p, forces)| reference.active_part_of_forces(coords, forces, &w_of(*p))).collect::<Result<_>>()?;
+            let parts: Vec<ActivePart> = chosen.iter().map(|x| reference.active_part_of_forces(coords, &x.forces, &x.w)).collect::<Result<_>>()?;
             let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, a.len(), hh)).max().unwrap_or(0);
             let at_once = patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), opts.n_samples);
             estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
@@ -433,21 +548,33 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             let per_pattern = pattern_working_set_bytes(n, nw, hh);
             let at_once = patterns_at_once(per_pattern, budget, opts.n_samples);
             estimated_bytes = check(at_once, per_pattern, 0, "")?;
-            let modes_of = |(p, forces): &(f64, ContactForces)| -> Result<JpModes> {
-                let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, forces, &w_of(*p))?;
+            let modes_of = |x: &Sampled| -> Result<JpModes> {
+                let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &x.forces, &x.w)?;
                 jp_modes(coords, &kj, &opts.modes)
             };
             in_parallel(at_once, &chosen, modes_of)?
         }
     };
-    let basis = JpBasis::from_modes(&modes, opts.gamma, nw)?.with_band(opts.modes.band);
+    // the slipping patterns' modes conditioned on their own, then united: stacked with the
+    // stuck ones under one SVD the few slipping directions fall below the stuck ones' cut
+    let stuck_count = chosen.len() - slipping_patterns;
+    let basis = if slipping_patterns > 0 && stuck_count > 0 {
+        let stuck = JpBasis::from_modes(&modes[..stuck_count], opts.gamma, nw)?;
+        let slipping = JpBasis::from_modes(&modes[stuck_count..], opts.gamma, nw)?;
+        JpBasis { n_patterns: chosen.len(), ..stuck.union(&slipping, opts.gamma)? }
+    } else {
+        JpBasis::from_modes(&modes, opts.gamma, nw)?
+    }
+    .with_band(opts.modes.band);
     let report = PredictionReport {
         omega_stuck,
         p_min,
         p_max,
         n_samples: ns,
         n_patterns: chosen.len(),
-        pattern_amplitudes: chosen.iter().map(|(p, _)| *p).collect(),
+        pattern_amplitudes: chosen.iter().map(|x| x.p).collect(),
+        omega_slipping,
+        slipping_patterns,
         static_solution: q_static,
         active_coordinates,
         estimated_bytes,

@@ -81,6 +81,19 @@ const NEAREST_BLOCK: usize = 8;
 /// [`JpError::BadSize`] for mismatched sizes, [`JpError::Eigen`] naming `what` if
 /// `K - target M` is singular to working precision or the iteration does not converge.
 pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, what: &str) -> Result<(f64, Vec<f64>)> {
+    let mut pairs = generalized_eigenpairs_nearest(k, m, target, 1, what)?;
+    Ok(pairs.swap_remove(0))
+}
+
+/// The `count` eigenpairs of the symmetric-definite pencil `K x = lambda M x` whose eigenvalues
+/// are nearest `target`, nearest first, by the subspace iteration of
+/// [`generalized_eigenpair_nearest`] on a block of `max(`[`NEAREST_BLOCK`]`, 2 count)`
+/// vectors, until each of the `count` has converged. Fewer when the pencil is smaller than
+/// `count`. Unit Euclidean length.
+///
+/// # Errors
+/// As [`generalized_eigenpair_nearest`]; `count = 0` is [`JpError::InvalidValue`].
+pub fn generalized_eigenpairs_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, count: usize, what: &str) -> Result<Vec<(f64, Vec<f64>)>> {
     use faer::linalg::solvers::Solve;
     let n = k.nrows();
     if k.ncols() != n || m.nrows() != n || m.ncols() != n {
@@ -89,7 +102,11 @@ pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, wh
     if n == 0 {
         return Err(JpError::Eigen { what: format!("{what}: empty matrix") });
     }
-    let p = NEAREST_BLOCK.min(n);
+    if count == 0 {
+        return Err(JpError::invalid(what.to_string(), "asked for 0 eigenpairs"));
+    }
+    let p = NEAREST_BLOCK.max(2 * count).min(n);
+    let count = count.min(p);
     let lu = (k - m * faer::Scale(target)).partial_piv_lu();
     let mut v = Mat::from_fn(n, p, |i, j| if i % p == j { 1.0 } else { 0.0 } + ((i * 7919 + j * 104729) % 23) as f64 / 230.0);
     let mut best = (f64::NAN, f64::INFINITY);
@@ -115,18 +132,28 @@ pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, wh
         let a = Mat::from_fn(p, p, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
         let (s, mut y) = symmetric_eigen(&a, &format!("{what}: Ritz values"))?;
         l.transpose().solve_upper_triangular_in_place(y.as_mut());
-        let j = (0..p).min_by(|&a, &b| (s[a] - target).abs().total_cmp(&(s[b] - target).abs())).unwrap_or(0);
-        let lambda = s[j];
-        let yj = y.as_ref().subcols(j, 1);
-        let kx = &kq * yj;
-        let mx = &mq * yj;
-        let res = (&kx - &mx * faer::Scale(lambda)).norm_l2() / (kx.norm_l2() + lambda.abs() * mx.norm_l2()).max(f64::MIN_POSITIVE);
-        if res.is_finite() && res < 1e-10 {
+        let mut order: Vec<usize> = (0..p).collect();
+        order.sort_by(|&a, &b| (s[a] - target).abs().total_cmp(&(s[b] - target).abs()));
+        let mut pairs = Vec::with_capacity(count);
+        let mut converged = true;
+        for &j in &order[..count] {
+            let lambda = s[j];
+            let yj = y.as_ref().subcols(j, 1);
+            let kx = &kq * yj;
+            let mx = &mq * yj;
+            let res = (&kx - &mx * faer::Scale(lambda)).norm_l2() / (kx.norm_l2() + lambda.abs() * mx.norm_l2()).max(f64::MIN_POSITIVE);
+            if !(res.is_finite() && res < 1e-10) {
+                converged = false;
+                best = (lambda, res);
+                break;
+            }
             let xv = &q * yj;
             let nx = xv.norm_l2();
-            return Ok((lambda, (0..n).map(|i| xv[(i, 0)] / nx).collect()));
+            pairs.push((lambda, (0..n).map(|i| xv[(i, 0)] / nx).collect()));
         }
-        best = (lambda, res);
+        if converged {
+            return Ok(pairs);
+        }
         v = &q * &y;
     }
     Err(JpError::Eigen { what: format!("{what}: subspace iteration nearest {target:e} stopped at lambda = {:e}, residual {:e}", best.0, best.1) })

@@ -79,6 +79,21 @@ impl ContactCoordinates {
         k
     }
 
+    /// `K` with every contact's gross-slip springs ([`crate::contact::ContactLaw::slipping_stiffness_block`]:
+    /// the normal springs, no tangential ones) added on its contact coordinates: the stiffness
+    /// of the slipping linear limit of a large excitation (docs/formulation.md §8.8). `None` when
+    /// a law's slipping limit is not known (an external law).
+    pub fn slipping_stiffness(&self) -> Option<Mat<f64>> {
+        let mut k = self.stiffness.clone();
+        for (law, &off) in self.laws.iter().zip(&self.offsets) {
+            let d = law.dim();
+            for (idx, ks) in law.slipping_stiffness_block()?.into_iter().enumerate() {
+                k[(off + idx % d, off + idx / d)] += ks;
+            }
+        }
+        Some(k)
+    }
+
     /// [`dissipation`] of entry `(i, j)` of the `z`-coordinate matrices.
     #[inline]
     pub fn dissipation(&self, hw: f64, i: usize, j: usize) -> f64 {
