@@ -38,7 +38,7 @@
 //!   the sweep tries to step over it at fixed frequency: the point solver at a slightly larger
 //!   frequency (`1e-4`, `1e-3`, then `1e-2` of the band ahead) from the last point, kept if it
 //!   converges close to it; the frequency it restarted from is recorded in
-//!   [`SweepResult::restarts`] (at most [`MAX_RESTARTS`]). Otherwise the sweep ends with
+//!   [`SweepResult::restarts`] (at most [`MAX_RESTARTS`], 1,000). Otherwise the sweep ends with
 //!   [`SweepEnd::StepTooSmall`] and the corrector's last error.
 //! * **Folds**: where the tangent's frequency component changes sign the branch turns back in
 //!   frequency; the fold's frequency is recorded in [`SweepResult::folds`].
@@ -62,8 +62,12 @@ pub(crate) const MAX_ANGLE_RETRIES: usize = 4;
 /// as long is at a corner of the branch (on a smooth branch the turn halves with the step).
 pub(crate) const CORNER_RATIO: f64 = 0.7;
 
-/// Most restarts over a kink per sweep (see the module doc).
-pub(crate) const MAX_RESTARTS: usize = 10;
+/// Most restarts over a kink per sweep (see the module doc). Each restart moves forward in
+/// frequency and adds a point, so `SweepOptions::max_points` bounds them as well; this only
+/// stops a sweep that would do nothing but restart. It was 10, which ended the 18-contact
+/// blade's NLR at alpha_ST / 20 (a basis with the slipping samples) at 90.5 % of the band,
+/// in a friction-damped resonance whose stick-slip kinks needed 47 (tests/sweep_restarts.rs).
+pub(crate) const MAX_RESTARTS: usize = 1000;
 
 /// The turn between successive chords above which a step is retried shorter: three times
 /// `max_angle`, at least 0.5 rad.
