@@ -1173,6 +1173,7 @@ fn prediction_options(study: &Study) -> PredictionOptions {
     popts.gamma = study.basis.gamma;
     popts.n_samples = study.basis.samples;
     popts.modes.extra_outside = study.basis.extra_modes;
+    popts.slipping = study.basis.slipping.into();
     popts
 }
 

@@ -795,6 +795,11 @@ pub struct BasisSpec {
     /// JP eigenpairs kept beyond the band, nearest first (`ModeOptions::extra_outside`): at
     /// gross slip the slipping mode leaves the band, and the in-band ones alone may miss it.
     pub extra_modes: usize,
+    /// Whether the prediction also samples the contacts along the slipping mode
+    /// (`jprom::jp::SlippingSamples`, docs/formulation.md §8.8): `"never"` (default),
+    /// `"at_gross_slip"` (when the linear stuck response is 50 times the amplitude where slip
+    /// begins, about `alpha_ST / 50` and below) or `"always"`.
+    pub slipping: SlippingSpec,
     /// Error vs basis size: at each level, one predicted basis per `gamma` in this list, each
     /// ROM solved at the full-order resonance (needs `solvers.full_order`). Empty: no study.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -803,7 +808,27 @@ pub struct BasisSpec {
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, extra_modes: 2, gamma_study: Vec::new() }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, extra_modes: 2, slipping: SlippingSpec::Never, gamma_study: Vec::new() }
+    }
+}
+
+/// `basis.slipping`: the study file's words for [`jprom::jp::SlippingSamples`].
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SlippingSpec {
+    #[default]
+    Never,
+    AtGrossSlip,
+    Always,
+}
+
+impl From<SlippingSpec> for jprom::jp::SlippingSamples {
+    fn from(s: SlippingSpec) -> Self {
+        match s {
+            SlippingSpec::Never => jprom::jp::SlippingSamples::Never,
+            SlippingSpec::AtGrossSlip => jprom::jp::SlippingSamples::AtGrossSlip,
+            SlippingSpec::Always => jprom::jp::SlippingSamples::Always,
+        }
     }
 }
 

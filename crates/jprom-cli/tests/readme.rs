@@ -204,3 +204,65 @@ fn demo_levels_version_and_response_default_are_the_codes() {
     let default = jprom_cli::study::BLADE_TIP_FLAP_OUTPUT;
     assert!(text.contains(&format!("| `output.response` | blade: {default}, FE: 0 |")), "README's output.response default");
 }
+
+/// The README's study-file key table (`| key | default | meaning |`) against the code, for the
+/// sections with defaults (`band`, `hbm`, `forcing`, `basis`, `solvers`, `output`): every key it
+/// lists is one a study file accepts (a study setting it to the README's default parses), every
+/// default it gives is the code's, and every key of those sections is named in the README.
+#[test]
+fn study_key_table_defaults_and_keys_are_the_codes() {
+    use jprom_cli::study::{BandSpec, BasisSpec, ForcingSpec, HbmSpec, OutputSpec, SolverSpec, Study};
+    let text = readme();
+    let table = text.split("| key | default | meaning |").nth(1).expect("the study key table").split("\n\n").next().unwrap();
+    let defaults: Vec<(&str, serde_json::Value)> = vec![
+        ("band", serde_json::to_value(BandSpec::default()).unwrap()),
+        ("hbm", serde_json::to_value(HbmSpec::default()).unwrap()),
+        ("forcing", serde_json::to_value(ForcingSpec::default()).unwrap()),
+        ("basis", serde_json::to_value(BasisSpec::default()).unwrap()),
+        ("solvers", serde_json::to_value(SolverSpec::default()).unwrap()),
+        ("output", serde_json::to_value(OutputSpec::default()).unwrap()),
+    ];
+    // a README value as TOML (numbers, booleans, quoted strings, lists)
+    let parse = |cell: &str| -> toml::Value { toml::from_str::<toml::Table>(&format!("v = {cell}")).unwrap_or_else(|e| panic!("README default {cell:?}: {e}"))["v"].clone() };
+    let same = |readme: &toml::Value, code: Option<&serde_json::Value>| -> bool {
+        match (readme, code) {
+            (toml::Value::Array(a), None) => a.is_empty(),
+            (toml::Value::Array(a), Some(serde_json::Value::Array(b))) => a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.as_float().or(x.as_integer().map(|i| i as f64)) == y.as_f64()),
+            (toml::Value::Float(x), Some(y)) => y.as_f64().is_some_and(|y| (x - y).abs() <= 1e-12 * y.abs()),
+            (toml::Value::Integer(x), Some(y)) => y.as_f64() == Some(*x as f64),
+            (toml::Value::Boolean(x), Some(y)) => y.as_bool() == Some(*x),
+            (toml::Value::String(x), Some(y)) => y.as_str() == Some(x.as_str()),
+            _ => false,
+        }
+    };
+    let mut checked = 0;
+    for line in table.lines().filter(|l| l.starts_with("| `")) {
+        let cells: Vec<&str> = line.split(" | ").collect();
+        let key = cells[0].trim_start_matches("| ").trim_matches('`');
+        let Some((section, names)) = key.split_once('.') else { continue };
+        let Some((_, code)) = defaults.iter().find(|(s, _)| *s == section) else { continue };
+        let names: Vec<&str> = names.trim_start_matches('{').trim_end_matches('}').split(',').collect();
+        let cell = cells[1].trim();
+        if cell == "—" || cell.contains(':') {
+            continue;
+        }
+        // one value per name, or one for all
+        let values: Vec<&str> = if names.len() == 1 { vec![cell] } else { cell.split(", ").collect() };
+        assert!(values.len() == names.len() || values.len() == 1, "README row {key}: {} names, defaults {cell}", names.len());
+        for (i, name) in names.iter().enumerate() {
+            let value = values[if values.len() == 1 { 0 } else { i }];
+            let readme_value = parse(value);
+            assert!(same(&readme_value, code.get(name)), "README default of {section}.{name} is {value}, the code's is {:?}", code.get(name));
+            let study = format!("[model]\nkind = \"blade\"\n[{section}]\n{name} = {value}\n");
+            Study::from_toml_str(&study).unwrap_or_else(|e| panic!("README key {section}.{name} = {value} is not accepted: {e}"));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 15, "only {checked} keys checked: did the table's format change?");
+    // every key of these sections appears in the README (in the table or the text around it)
+    let named = |section: &str, name: &str| {
+        text.contains(&format!("`{section}.{name}`")) || text.lines().any(|l| l.contains(&format!("`{section}.{{")) && l.split('`').any(|k| k.starts_with(&format!("{section}.{{")) && k.trim_start_matches(&format!("{section}.{{")).trim_end_matches('}').split(',').any(|n| n == name)))
+    };
+    let missing: Vec<String> = defaults.iter().flat_map(|(section, code)| code.as_object().unwrap().keys().filter(|name| !named(section, name)).map(move |name| format!("{section}.{name}"))).collect();
+    assert!(missing.is_empty(), "study keys not in the README: {missing:?}");
+}

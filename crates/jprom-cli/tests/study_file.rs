@@ -103,3 +103,18 @@ fn json_studies_name_the_key_too() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn slipping_samples_key_takes_its_three_words_and_names_itself_otherwise() {
+    use jprom_cli::study::SlippingSpec;
+    let s = Study::from_toml_str("[model]\nkind = \"blade\"\n").unwrap();
+    assert_eq!(s.basis.slipping, SlippingSpec::Never);
+    for (word, spec, lib) in [("never", SlippingSpec::Never, jprom::jp::SlippingSamples::Never), ("at_gross_slip", SlippingSpec::AtGrossSlip, jprom::jp::SlippingSamples::AtGrossSlip), ("always", SlippingSpec::Always, jprom::jp::SlippingSamples::Always)] {
+        let s = Study::from_toml_str(&format!("[model]\nkind = \"blade\"\n[basis]\nslipping = \"{word}\"\n")).unwrap();
+        assert_eq!(s.basis.slipping, spec);
+        assert_eq!(jprom::jp::SlippingSamples::from(s.basis.slipping), lib);
+    }
+    let (line, r) = reason("[model]\nkind = \"blade\"\n[basis]\nslipping = \"sometimes\"\n");
+    assert!(r.contains("basis.slipping") && r.contains("at_gross_slip"), "{r}");
+    assert_eq!(line, 4);
+}
