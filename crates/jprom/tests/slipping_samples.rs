@@ -94,3 +94,51 @@ fn at_partial_slip_the_slipping_samples_are_not_taken() {
     let (_, rc) = predict_basis(&coords, &PredictionOptions { slipping: SlippingSamples::Always, ..never }).unwrap();
     assert!(rc.slipping_patterns > 0 && rc.omega_slipping.is_some());
 }
+
+/// The paths without a slipping mode: a model whose contacts have no tangential springs
+/// (frictionless: the slipping limit is the stuck one) and one with an external law (its
+/// slipping limit unknown). `slipping_mode` says `None`, and `SlippingSamples::Always` then
+/// leaves the prediction as it is without it.
+#[test]
+fn without_friction_or_with_an_external_law_there_are_no_slipping_samples() {
+    use jprom::contact::{ContactLaw, ExternalFn, ExternalLaw};
+    use std::sync::Arc;
+    let blade = Blade::build();
+    let gross = blade.at_level(blade.alpha_st / 3000.0);
+    let check = |model: &jprom::model::Model, what: &str| {
+        let coords = ContactCoordinates::new(model, 1).unwrap();
+        assert!(!coords.has_friction(), "{what}");
+        let (_, phi_st) = stuck_mode(&coords, band()).unwrap();
+        assert!(slipping_mode(&coords, band(), &phi_st).unwrap().is_none(), "{what}");
+        let never = PredictionOptions::new(band());
+        let (a, ra) = predict_basis(&coords, &never).unwrap();
+        let (b, rb) = predict_basis(&coords, &PredictionOptions { slipping: SlippingSamples::Always, ..never }).unwrap();
+        println!("{what}: {:?}, {} patterns", a.sizes, ra.n_patterns);
+        assert_eq!((rb.slipping_patterns, rb.omega_slipping), (0, None), "{what}");
+        assert_eq!((a.sizes, ra.n_patterns), (b.sizes, rb.n_patterns), "{what}");
+    };
+    // the blade as it is has friction
+    assert!(ContactCoordinates::new(&gross, 1).unwrap().has_friction());
+
+    let mut frictionless = gross.clone();
+    for c in &mut frictionless.contacts {
+        let ContactLaw::Friction3D { kt1, kt2, .. } = &mut c.law else { panic!("the blade's contacts are 3D friction elements") };
+        (*kt1, *kt2) = (0.0, 0.0);
+    }
+    check(&frictionless, "no tangential springs");
+
+    // the first contact's law as a C-style callable: a linear spring with the stuck stiffness
+    let mut external = gross.clone();
+    let k = external.contacts[0].law.stuck_stiffness();
+    let f: Arc<ExternalFn> = Arc::new(move |w: &[f64], f: &mut [f64], j: &mut [f64]| {
+        for i in 0..3 {
+            f[i] = k[i] * w[i];
+            for m in 0..3 {
+                j[i + 3 * m] = if i == m { k[i] } else { 0.0 };
+            }
+        }
+        Ok(())
+    });
+    external.contacts[0].law = ContactLaw::External(ExternalLaw::new(3, f).unwrap());
+    check(&external, "an external law");
+}

@@ -246,10 +246,15 @@ const SLIPPING_CANDIDATES: usize = 4;
 /// # Errors
 /// [`JpError::Eigen`] if the subspace iteration fails.
 pub fn slipping_mode(coords: &ContactCoordinates, band: (f64, f64), phi_st: &[f64]) -> Result<Option<(f64, Vec<f64>)>> {
-    let Some(k) = coords.slipping_stiffness() else { return Ok(None) };
-    if k == coords.stuck_stiffness() {
+    Ok(slipping_mode_and_stiffness(coords, band, phi_st)?.map(|(w, phi, _)| (w, phi)))
+}
+
+/// [`slipping_mode`] with the slipping stiffness it was solved on, `(omega, φ, K_sl)`.
+fn slipping_mode_and_stiffness(coords: &ContactCoordinates, band: (f64, f64), phi_st: &[f64]) -> Result<Option<(f64, Vec<f64>, Mat<f64>)>> {
+    if !coords.has_friction() {
         return Ok(None);
     }
+    let Some(k) = coords.slipping_stiffness() else { return Ok(None) };
     let centre = 0.5 * (band.0 + band.1);
     let pairs = crate::linalg::eigen::generalized_eigenpairs_nearest(&k, &coords.mass, centre * centre, SLIPPING_CANDIDATES, "slipping modes")?;
     let m = &coords.mass;
@@ -261,7 +266,7 @@ pub fn slipping_mode(coords: &ContactCoordinates, band: (f64, f64), phi_st: &[f6
     let big = phi.iter().copied().fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
     let nrm = norm2(&phi).copysign(big);
     phi.iter_mut().for_each(|x| *x /= nrm);
-    Ok(Some((lambda.max(0.0).sqrt(), phi)))
+    Ok(Some((lambda.max(0.0).sqrt(), phi, k)))
 }
 
 /// Harmonic-major contact displacement with static part `q0` and first harmonic `(c, s)`.
@@ -490,7 +495,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         SlippingSamples::Never => false,
     };
     if slipping_wanted && omega_stuck.is_some() {
-        if let (Some((w_sl, phi_sl)), Some(k_sl)) = (slipping_mode(coords, opts.modes.band, &c)?, coords.slipping_stiffness()) {
+        if let Some((w_sl, phi_sl, k_sl)) = slipping_mode_and_stiffness(coords, opts.modes.band, &c)? {
             let p_sl = linear_response_norm(coords, &k_sl, w_sl)? / norm2(&phi_sl);
             if !(p_sl.is_finite() && p_sl > 0.0) {
                 return Err(JpError::invalid("slipping mode", format!("its linear response estimate is {p_sl} (no damping?)")));

@@ -68,15 +68,8 @@ impl ContactCoordinates {
     /// `K` with every contact's stuck springs (`kt1, kt2, kn` in its frame) added on its
     /// contact coordinates: the stiffness of the stuck linear limit (docs/formulation.md §8).
     pub fn stuck_stiffness(&self) -> Mat<f64> {
-        let mut k = self.stiffness.clone();
-        for (law, &off) in self.laws.iter().zip(&self.offsets) {
-            // the full block: an external law's Jacobian at w = 0 may couple its coordinates
-            let d = law.dim();
-            for (idx, ks) in law.stuck_stiffness_block().into_iter().enumerate() {
-                k[(off + idx % d, off + idx / d)] += ks;
-            }
-        }
-        k
+        // the full block: an external law's Jacobian at w = 0 may couple its coordinates
+        self.with_contact_blocks(|law| Some(law.stuck_stiffness_block())).expect("every law has a stuck block")
     }
 
     /// `K` with every contact's gross-slip springs ([`crate::contact::ContactLaw::slipping_stiffness_block`]:
@@ -84,10 +77,24 @@ impl ContactCoordinates {
     /// of the slipping linear limit of a large excitation (docs/formulation.md §8.8). `None` when
     /// a law's slipping limit is not known (an external law).
     pub fn slipping_stiffness(&self) -> Option<Mat<f64>> {
+        self.with_contact_blocks(ContactLaw::slipping_stiffness_block)
+    }
+
+    /// Whether some contact's slipping limit differs from its stuck one (a friction law with
+    /// tangential stiffness): without, the slipping and stuck linear limits are the same.
+    /// `false` when a law's slipping limit is not known (an external law).
+    pub fn has_friction(&self) -> bool {
+        let slipping: Option<Vec<_>> = self.laws.iter().map(ContactLaw::slipping_stiffness_block).collect();
+        slipping.is_some_and(|sl| sl.iter().zip(&self.laws).any(|(b, law)| *b != law.stuck_stiffness_block()))
+    }
+
+    /// `K` plus each law's `dim x dim` column-major block (`block(law)`) on its coordinates;
+    /// `None` if a block is.
+    fn with_contact_blocks(&self, block: impl Fn(&ContactLaw) -> Option<Vec<f64>>) -> Option<Mat<f64>> {
         let mut k = self.stiffness.clone();
         for (law, &off) in self.laws.iter().zip(&self.offsets) {
             let d = law.dim();
-            for (idx, ks) in law.slipping_stiffness_block()?.into_iter().enumerate() {
+            for (idx, ks) in block(law)?.into_iter().enumerate() {
                 k[(off + idx % d, off + idx / d)] += ks;
             }
         }
