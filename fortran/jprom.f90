@@ -42,6 +42,8 @@ module jprom_c
   !> Reduced-model kinds (jprom_rom_kind) and basis corrections (jprom_correction_kind).
   integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
   integer(c_int), parameter :: JPROM_CORRECTION_REGENERATED = 0, JPROM_CORRECTION_GAMMA_INCREASED = 1
+  !> Where the JP prediction samples besides the stuck mode (jprom_slipping_samples, jprom_jp_options%slipping).
+  integer(c_int), parameter :: JPROM_SLIPPING_NEVER = 0, JPROM_SLIPPING_AT_GROSS_SLIP = 1, JPROM_SLIPPING_ALWAYS = 2
   !> Why a sweep ended (jprom_sweep_end in C).
   integer(c_int), parameter :: JPROM_SWEEP_REACHED_END = 0, JPROM_SWEEP_STALLED = 1, JPROM_SWEEP_POINT_CAP = 2, &
                                JPROM_SWEEP_LEFT_BAND = 3, JPROM_SWEEP_CANCELLED = 4
@@ -81,6 +83,8 @@ module jprom_c
     real(c_double) :: threshold
     integer(c_size_t) :: max_corrections
     real(c_double) :: gamma_growth, max_gamma
+    !> version 2 (0.3): a JPROM_SLIPPING_* value (default JPROM_SLIPPING_NEVER)
+    integer(c_int) :: slipping
   end type
 
   interface
@@ -897,7 +901,8 @@ module jprom
                      JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
                      JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, &
                      JPROM_PARSE, JPROM_CALLBACK_ERROR, JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, &
-                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
+                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, &
+                     JPROM_SLIPPING_ALWAYS, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
                      JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_MAX_HARMONICS, &
                      JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   implicit none
@@ -907,6 +912,7 @@ module jprom
             JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, JPROM_PARSE, &
             JPROM_CALLBACK_ERROR
   public :: JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED
+  public :: JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS
   public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
             JPROM_SWEEP_CANCELLED
   public :: JPROM_MAX_HARMONICS, JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC

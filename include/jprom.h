@@ -60,7 +60,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// `struct_size` of version 1 of `jprom_jp_options`.
+// `struct_size` of version 1 of `jprom_jp_options` (up to `max_gamma`).
 #define JPROM_JP_OPTIONS_V1_SIZE 72
 
 // Highest harmonic `H` accepted in `jprom_hbm_options.harmonics`.
@@ -164,6 +164,18 @@ typedef enum {
   JPROM_CORRECTION_GAMMA_INCREASED = 1,
 } jprom_correction_kind;
 
+// Where the JP prediction samples the contacts besides the stuck mode: the
+// `slipping` field of `jprom_jp_options` (docs/formulation.md §8.8).
+typedef enum {
+  // Along the stuck mode only.
+  JPROM_SLIPPING_NEVER = 0,
+  // Also along the slipping mode when the level is gross slip (the stuck mode's largest
+  // sampled amplitude at least 50 times its smallest).
+  JPROM_SLIPPING_AT_GROSS_SLIP = 1,
+  // Also along the slipping mode at any level.
+  JPROM_SLIPPING_ALWAYS = 2,
+} jprom_slipping_samples;
+
 // A JP basis `Φ_h`, `h = 0..H`. Released with `jprom_basis_free`.
 typedef struct jprom_basis jprom_basis;
 
@@ -260,6 +272,11 @@ typedef struct {
   // (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
   double gamma_growth;
   double max_gamma;
+  // Version 2 (0.3): whether the prediction also samples along the slipping mode, a
+  // `jprom_slipping_samples` (default `JPROM_SLIPPING_NEVER`; `JPROM_SLIPPING_AT_GROSS_SLIP`
+  // is worth it at gross slip, where the stuck mode misses the resonance;
+  // docs/formulation.md §8.8).
+  int slipping;
 } jprom_jp_options;
 
 // A user-defined element law (`jprom_model_add_element_callback`): at one time sample, from
@@ -495,7 +512,7 @@ jprom_status jprom_sweep_result_point_predicted_error(const jprom_sweep_result *
                                                       size_t h,
                                                       double *out);
 
-// Writes the defaults of version 1 of `jprom_jp_options` into `*out`. In `jprom.h` this name
+// Writes the defaults of version 1 of `jprom_jp_options` (up to `max_gamma`) into `*out`. In `jprom.h` this name
 // is a macro for `jprom_jp_options_init(out, sizeof *out)`.
 jprom_status jprom_jp_options_default(jprom_jp_options *out);
 

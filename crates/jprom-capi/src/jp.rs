@@ -16,7 +16,7 @@ use jprom::condensation::CondensedSystem;
 use jprom::rom::error_metric::actual_error;
 use jprom::rom;
 use jprom::hbm::PointSolution;
-use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
+use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions, SlippingSamples};
 use jprom::model::ContactCoordinates;
 use jprom::rom::{SweepRecord, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
 use std::ffi::{c_char, c_int, c_void};
@@ -220,15 +220,49 @@ pub struct jprom_jp_options {
     /// (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
     pub gamma_growth: f64,
     pub max_gamma: f64,
+    /// Version 2 (0.3): whether the prediction also samples along the slipping mode, a
+    /// `jprom_slipping_samples` (default `JPROM_SLIPPING_NEVER`; `JPROM_SLIPPING_AT_GROSS_SLIP`
+    /// is worth it at gross slip, where the stuck mode misses the resonance;
+    /// docs/formulation.md §8.8).
+    pub slipping: c_int,
 }
 
-/// `struct_size` of version 1 of `jprom_jp_options`.
+/// `struct_size` of version 1 of `jprom_jp_options` (up to `max_gamma`).
 pub const JPROM_JP_OPTIONS_V1_SIZE: usize = 72;
-const _: () = assert!(std::mem::size_of::<jprom_jp_options>() == JPROM_JP_OPTIONS_V1_SIZE);
+// A released prefix ends where the next version's fields begin (see solve.rs).
+const _: () = assert!(std::mem::offset_of!(jprom_jp_options, slipping) == JPROM_JP_OPTIONS_V1_SIZE);
+
+/// Where the JP prediction samples the contacts besides the stuck mode: the
+/// `slipping` field of `jprom_jp_options` (docs/formulation.md §8.8).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum jprom_slipping_samples {
+    /// Along the stuck mode only.
+    JPROM_SLIPPING_NEVER = 0,
+    /// Also along the slipping mode when the level is gross slip (the stuck mode's largest
+    /// sampled amplitude at least 50 times its smallest).
+    JPROM_SLIPPING_AT_GROSS_SLIP = 1,
+    /// Also along the slipping mode at any level.
+    JPROM_SLIPPING_ALWAYS = 2,
+}
+
+fn slipping_samples(v: c_int) -> Result<SlippingSamples, FfiError> {
+    use jprom_slipping_samples::*;
+    match v {
+        k if k == JPROM_SLIPPING_NEVER as c_int => Ok(SlippingSamples::Never),
+        k if k == JPROM_SLIPPING_AT_GROSS_SLIP as c_int => Ok(SlippingSamples::AtGrossSlip),
+        k if k == JPROM_SLIPPING_ALWAYS as c_int => Ok(SlippingSamples::Always),
+        k => Err(FfiError::new(
+            JPROM_INVALID_VALUE,
+            format!("jprom_jp_options.slipping is {k}, not a jprom_slipping_samples (JPROM_SLIPPING_NEVER 0, JPROM_SLIPPING_AT_GROSS_SLIP 1, JPROM_SLIPPING_ALWAYS 2)"),
+        )),
+    }
+}
 
 impl Versioned for jprom_jp_options {
     const NAME: &'static str = "jprom_jp_options";
-    const SIZES: &'static [usize] = &[JPROM_JP_OPTIONS_V1_SIZE];
+    const SIZES: &'static [usize] = &[JPROM_JP_OPTIONS_V1_SIZE, std::mem::size_of::<jprom_jp_options>()];
     fn defaults() -> Self {
         let p = PredictionOptions::new((0.0, 0.0));
         let a = AdaptiveOptions::default();
@@ -242,11 +276,16 @@ impl Versioned for jprom_jp_options {
             max_corrections: a.max_corrections,
             gamma_growth: a.gamma_growth,
             max_gamma: a.max_gamma,
+            slipping: match p.slipping {
+                SlippingSamples::Never => jprom_slipping_samples::JPROM_SLIPPING_NEVER,
+                SlippingSamples::AtGrossSlip => jprom_slipping_samples::JPROM_SLIPPING_AT_GROSS_SLIP,
+                SlippingSamples::Always => jprom_slipping_samples::JPROM_SLIPPING_ALWAYS,
+            } as c_int,
         }
     }
 }
 
-/// Writes the defaults of version 1 of `jprom_jp_options` into `*out`. In `jprom.h` this name
+/// Writes the defaults of version 1 of `jprom_jp_options` (up to `max_gamma`) into `*out`. In `jprom.h` this name
 /// is a macro for `jprom_jp_options_init(out, sizeof *out)`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_jp_options_default(out: *mut jprom_jp_options) -> jprom_status {
@@ -271,6 +310,7 @@ unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<jprom_jp_options,
     if o.max_gamma < o.gamma {
         return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
     }
+    slipping_samples(o.slipping)?;
     Ok(o)
 }
 
@@ -286,6 +326,8 @@ fn prediction_options(o: &jprom_jp_options, band: (f64, f64)) -> PredictionOptio
     p.gamma = o.gamma;
     p.n_samples = o.n_samples;
     p.modes = mode_options(o, band);
+    // checked by jp_options_arg
+    p.slipping = slipping_samples(o.slipping).unwrap_or_default();
     p
 }
 

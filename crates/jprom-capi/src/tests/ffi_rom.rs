@@ -8,7 +8,7 @@ use jprom::contact::{Contact, ContactLaw, IDENTITY_FRAME};
 use crate::*;
 use jprom::rom::error_metric::actual_error;
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
-use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions};
+use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions, SlippingSamples};
 use jprom::model::{ContactCoordinates, Damping, Excitation, HarmonicForce, Model};
 use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, NlrRom, RomKind};
 use std::ffi::{c_int, c_void};
@@ -133,7 +133,7 @@ unsafe fn c_options(band: (f64, f64)) -> (jprom_hbm_options, jprom_sweep_options
     let mut jo = std::mem::zeroed();
     ok(jprom_hbm_options_default(&mut opts));
     ok(jprom_sweep_options_default(&mut sopts));
-    ok(jprom_jp_options_default(&mut jo));
+    ok(jprom_jp_options_init(&mut jo, std::mem::size_of::<jprom_jp_options>()));
     sopts.omega_start = band.0;
     sopts.omega_end = band.1;
     (opts, sopts, jo)
@@ -199,6 +199,65 @@ fn jp_options_defaults_are_the_rust_defaults_and_predict_opts_matches() {
         }
         ok(jprom_model_free(m));
     }
+}
+
+/// `jprom_jp_options.slipping` (version 2): the C prediction with each value is the Rust
+/// prediction with the same `SlippingSamples` (the same patterns and `Φ_h`); a version-1 struct
+/// gets the default (never); a value outside the enum is refused naming the field.
+#[test]
+fn jp_options_slipping_is_the_rust_slipping_samples() {
+    let band = (80.0, 200.0);
+    let coords = ContactCoordinates::new(&rust_model(), 1).unwrap();
+    let rust = |slipping| predict_basis(&coords, &PredictionOptions { slipping, n_samples: 30, ..PredictionOptions::new(band) }).unwrap();
+    let (never, r_never) = rust(SlippingSamples::Never);
+    let (always, r_always) = rust(SlippingSamples::Always);
+    println!("never: {} patterns, always: {} patterns ({} slipping)", r_never.n_patterns, r_always.n_patterns, r_always.slipping_patterns);
+    assert!(r_always.slipping_patterns > 0 && always.n_patterns > never.n_patterns);
+    let dir = std::env::temp_dir().join(format!("jprom-slipping-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("basis.json");
+    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    unsafe {
+        let (opts, _, mut jo) = c_options(band);
+        assert_eq!(jo.slipping, jprom_slipping_samples::JPROM_SLIPPING_NEVER as c_int);
+        assert_eq!(std::mem::offset_of!(jprom_jp_options, slipping), JPROM_JP_OPTIONS_V1_SIZE);
+        jo.n_samples = 30;
+        let m = c_model();
+        let same = |jo: &jprom_jp_options, expect: &JpBasis| {
+            let mut b = std::ptr::null_mut();
+            ok(jprom_basis_predict_opts(m, &opts, jo, band.0, band.1, &mut b));
+            ok(jprom_basis_save_json(b, c_path.as_ptr()));
+            ok(jprom_basis_free(b));
+            let got = JpBasis::load_json(&path).unwrap();
+            assert_eq!((&got.sizes, got.n_patterns), (&expect.sizes, expect.n_patterns));
+            for (a, e) in got.phi.iter().zip(&expect.phi) {
+                assert!((a - e).norm_max() <= 1e-12, "Φ differs by {:e}", (a - e).norm_max());
+            }
+        };
+        jo.slipping = jprom_slipping_samples::JPROM_SLIPPING_ALWAYS as c_int;
+        same(&jo, &always);
+        // a caller of version 1 (no `slipping` field): the bytes past its prefix are not read
+        jo.struct_size = JPROM_JP_OPTIONS_V1_SIZE;
+        same(&jo, &never);
+        jo.struct_size = std::mem::size_of::<jprom_jp_options>();
+        jo.slipping = jprom_slipping_samples::JPROM_SLIPPING_NEVER as c_int;
+        same(&jo, &never);
+        for bad in [3, -1] {
+            jo.slipping = bad;
+            let mut b = std::ptr::null_mut();
+            assert_eq!(jprom_basis_predict_opts(m, &opts, &jo, band.0, band.1, &mut b), jprom_status::JPROM_INVALID_VALUE);
+            assert!(b.is_null());
+            let msg = std::ffi::CStr::from_ptr(jprom_last_error_message()).to_string_lossy().into_owned();
+            assert!(msg.contains("slipping") && msg.contains(&bad.to_string()), "{msg}");
+        }
+        // the exported symbol of the defaults writes version 1, the prefix only
+        let mut v1 = std::mem::zeroed::<jprom_jp_options>();
+        v1.slipping = 7;
+        ok(jprom_jp_options_default(&mut v1));
+        assert_eq!((v1.struct_size, v1.slipping), (JPROM_JP_OPTIONS_V1_SIZE, 7));
+        ok(jprom_model_free(m));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -206,7 +206,7 @@ static jprom_jp_options jp_opts(void) {
     o.n_samples = 1 + below(12);
     o.max_corrections = below(3); /* SIZE_MAX is issue 12's open continuation item, not fuzzed here */
     if (chance(15)) {
-        int k = (int)below(9);
+        int k = (int)below(10);
         if (k == 0) o.gamma = rdouble();
         if (k == 1) o.n_samples = rsize();
         if (k == 2) o.extra_outside = rsize();
@@ -216,6 +216,7 @@ static jprom_jp_options jp_opts(void) {
         if (k == 6) o.max_gamma = rdouble();
         if (k == 7) o.struct_size = rsize();
         if (k == 8) o.threshold = 1e-300;
+        if (k == 9) o.slipping = chance(50) ? (int)below(3) : (int)rnd();
     }
     return o;
 }

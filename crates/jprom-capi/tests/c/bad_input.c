@@ -172,6 +172,13 @@ int main(void) {
     expect(jprom_basis_predict_opts(jm, &opts, &jo, 60.0, 160.0, &basis), JPROM_INVALID_VALUE, "NaN gamma");
     jprom_jp_options_default(&jo);
     expect(jprom_basis_predict_opts(jm, &opts, &jo, NAN, 160.0, &basis), JPROM_INVALID_VALUE, "NaN band");
+    jprom_jp_options_default(&jo);
+    jo.slipping = 3;
+    expect(jprom_basis_predict_opts(jm, &opts, &jo, 60.0, 160.0, &basis), JPROM_INVALID_VALUE, "slipping 3 (not a jprom_slipping_samples)");
+    jo.slipping = JPROM_SLIPPING_ALWAYS;
+    expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, NULL, NULL, &rom, NULL), JPROM_OK, "adaptive sweep with the slipping samples");
+    jprom_sweep_result_free(rom);
+    rom = NULL;
     if (basis != NULL || rom != NULL) { printf("FAIL basis or sweep written on failure\n"); failures++; }
     expect(jprom_rom_sweep_adaptive(jm, JPROM_ROM_NLR, &opts, &sopts, &jo, stop_at_third, NULL, &rom, &basis), JPROM_OK, "callback stops the adaptive sweep");
     reason = JPROM_SWEEP_REACHED_END;

@@ -170,7 +170,8 @@ program binding
 
   ! ---- JP: basis of a full-order solution, save/load, reduced sweep, actual error ----
   call jp_default_jp_options(jp_opts)
-  call check(jp_opts%struct_size == c_sizeof(jp_opts) .and. jp_opts%threshold == 0.05d0, 'jp_default_jp_options')
+  call check(jp_opts%struct_size == c_sizeof(jp_opts) .and. jp_opts%threshold == 0.05d0 .and. &
+             jp_opts%slipping == JPROM_SLIPPING_NEVER, 'jp_default_jp_options')
   call ok(jp_basis_from_solution(model, sol, opts, jp_opts, 60.0d0, 160.0d0, basis, msg), 'jp_basis_from_solution')
   call ok(jp_basis_sizes(basis, sizes, hh), 'jp_basis_sizes')
   call ok(jp_basis_save(basis, trim(dir) // '/basis.json', msg), 'jp_basis_save')
