@@ -812,6 +812,11 @@ module jprom_c
       integer(c_size_t), value :: cb_modes
       type(c_ptr), intent(out) :: model
     end function
+    integer(c_int) function jprom_fe_model_unreduced(fe, model) bind(C, name="jprom_fe_model_unreduced")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      type(c_ptr), intent(out) :: model
+    end function
     !> Deprecated: use jprom_fe_model_reduce.
     integer(c_int) function jprom_fe_reduce(fe, cb_modes, model) bind(C, name="jprom_fe_reduce")
       import :: c_int, c_ptr, c_size_t
@@ -940,7 +945,7 @@ module jprom
             jp_rom_actual_error
   ! FE models
   public :: jp_fe_new_csc, jp_fe_load_calculix, jp_fe_free, jp_fe_n_dof, jp_fe_node_set, jp_fe_add_contact, &
-            jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce
+            jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce, jp_fe_unreduced
   ! damping forms and natural modes
   public :: jp_set_damping_matrix, jp_set_modal_damping_ratios, jp_set_loss_factor, jp_model_modes, &
             jp_fe_set_damping_csc, jp_fe_modes, jp_fe_fix_dof, jp_fe_reduce_cutoff
@@ -2000,6 +2005,16 @@ contains
     type(c_ptr), intent(out) :: model
     character(len=*), intent(out), optional :: message
     jp_fe_reduce = finish(jprom_fe_model_reduce(fe, int(cb_modes, c_size_t), model), message)
+  end function
+
+  !> The FE model without reduction (every FE DoF kept, dense M and K): JP on the FE model
+  !> itself, the reference for jp_fe_reduce. For FE models up to a few thousand DoFs.
+  integer function jp_fe_unreduced(fe, model, message)
+    use jprom_c, only: jprom_fe_model_unreduced
+    type(c_ptr), intent(in) :: fe
+    type(c_ptr), intent(out) :: model
+    character(len=*), intent(out), optional :: message
+    jp_fe_unreduced = finish(jprom_fe_model_unreduced(fe, model), message)
   end function
 
   ! ---- damping forms and natural modes ----

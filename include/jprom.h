@@ -402,6 +402,16 @@ jprom_status jprom_fe_model_reduce(const jprom_fe_model *fe,
                                    size_t cb_modes,
                                    jprom_model **out);
 
+// The FE model without reduction (JP on the FE model itself, docs/formulation.md §12): every
+// FE DoF kept, with dense `M`, `K` (and the FE `C` if one was set), the contacts, forces and
+// outputs added so far on the nodes' own DoFs (kept nodes change nothing). Its contact `i` is
+// the `i`-th added, its output `j` the `j`-th, as in `jprom_fe_model_reduce`, so the two
+// models can be compared point by point. Dense: for FE models up to a few thousand DoFs;
+// `2 n^2` doubles (`3 n^2` with `C`) beyond the memory budget is `JPROM_BAD_SIZE` with the
+// size it needs, before anything is allocated. `*out` is written only on success; free it
+// with `jprom_model_free`.
+jprom_status jprom_fe_model_unreduced(const jprom_fe_model *fe, jprom_model **out);
+
 // Deprecated since 0.3 (kept, as every released function): `jprom_fe_model_add_contact`, named like every other
 // function on a `jprom_fe_model`.
 JPROM_DEPRECATED("use jprom_fe_model_add_contact")

@@ -101,6 +101,57 @@ fn fe_model_from_c_equals_the_rust_reduction() {
     }
 }
 
+/// `jprom_fe_model_unreduced`: the Rust `FeModel::unreduced` of the same FE model and spec,
+/// the full model whose Craig-Bampton reduction `jprom_fe_model_reduce` is (same first free
+/// frequencies, all FE DoFs); NULL arguments refused.
+#[test]
+fn unreduced_fe_model_from_c_equals_the_rust_one() {
+    unsafe {
+        let fe = new_fe();
+        let frame: Vec<f64> = IDENTITY_FRAME.iter().flatten().copied().collect();
+        assert_eq!(jprom_fe_model_add_contact(fe, 104, frame.as_ptr(), 1e3, 1e3, 2e3, 0.3, 5.0), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_force(fe, 102, 1, [0.0, 1.0, 0.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_force(fe, 103, 0, [0.0, 0.0, -2.0].as_ptr()), jprom_status::JPROM_OK);
+        assert_eq!(jprom_fe_model_add_output(fe, 103, 1), jprom_status::JPROM_OK);
+        let mut full = null_mut();
+        assert_eq!(jprom_fe_model_unreduced(fe, &mut full), jprom_status::JPROM_OK, "{}", message());
+        let from_c = &(*full).model;
+        let spec = Reduction {
+            contacts: vec![NodalContact { node: 104, frame: IDENTITY_FRAME, law: ContactLaw::Friction3D { kt1: 1e3, kt2: 1e3, kn: 2e3, mu: 0.3, n0: 5.0 } }],
+            static_forces: vec![NodalForce { node: 103, force: [0.0, 0.0, -2.0] }],
+            harmonic_forces: vec![NodalForce { node: 102, force: [0.0, 1.0, 0.0] }],
+            outputs: vec![(103, 1)],
+            ..Reduction::default()
+        };
+        let rust = (*fe).fe.unreduced(&spec, Damping::default()).unwrap();
+        assert_eq!(from_c.n_dof(), 12);
+        assert_eq!(from_c.stiffness, rust.stiffness);
+        assert_eq!(from_c.mass, rust.mass);
+        assert_eq!(from_c.contacts, rust.contacts);
+        assert_eq!(from_c.output_dofs, rust.output_dofs);
+        assert_eq!(from_c.excitation, rust.excitation);
+        // the contact sits on node 104's own DoFs (9, 10, 11), the output on node 103's y (7)
+        assert_eq!((from_c.contacts[0].dofs_a.clone(), from_c.output_dofs.clone()), (vec![9, 10, 11], vec![7]));
+        // the free modes of the reduced model are those of the full one, to the reduction's accuracy
+        let mut reduced = null_mut();
+        assert_eq!(jprom_fe_model_reduce(fe, 3, &mut reduced), jprom_status::JPROM_OK, "{}", message());
+        let (mut f_full, mut f_red) = ([0.0; 2], [0.0; 2]);
+        assert_eq!(jprom_model_modes(full, 0, f_full.as_mut_ptr(), null_mut(), 2, null_mut()), jprom_status::JPROM_OK, "{}", message());
+        assert_eq!(jprom_model_modes(reduced, 0, f_red.as_mut_ptr(), null_mut(), 2, null_mut()), jprom_status::JPROM_OK, "{}", message());
+        for (a, b) in f_full.iter().zip(&f_red) {
+            assert!((a - b).abs() <= 1e-9 * a, "free modes {f_full:?} (FE) vs {f_red:?} (CB)");
+        }
+        // (beyond the memory budget it is refused: tests/c/hostile_input.c, a process of its own)
+        let mut none = null_mut();
+        assert_eq!(jprom_fe_model_unreduced(null(), &mut none), jprom_status::JPROM_NULL_ARGUMENT);
+        assert_eq!(jprom_fe_model_unreduced(fe, null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
+        for m in [full, reduced] {
+            assert_eq!(jprom_model_free(m), jprom_status::JPROM_OK);
+        }
+        assert_eq!(jprom_fe_model_free(fe), jprom_status::JPROM_OK);
+    }
+}
+
 /// The names deprecated in 0.3 (`jprom_fe_add_contact`, ...) still work and give the same
 /// reduced model as the `jprom_fe_model_*` names.
 #[test]

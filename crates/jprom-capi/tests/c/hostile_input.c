@@ -144,6 +144,35 @@ int main(int argc, char **argv) {
     jprom_hbm_options full = opts;
     full.condensed = 0;
     expect(jprom_solve_point(model, 100.0, &full, &sol), JPROM_BAD_SIZE, "solve beyond the budget", "more than the memory budget of 1000 bytes (raise it with jprom_set_memory_budget");
+    /* the unreduced FE model (dense M and K, 2 n^2 doubles) of a 4-node chain: 12 DoFs, 2304 bytes */
+    {
+        size_t cp[13], ri[12];
+        double kv[12], mv[12];
+        int64_t ids[4] = {1, 2, 3, 4}, rows[24];
+        for (size_t i = 0; i < 12; i++) { cp[i] = i; ri[i] = i; kv[i] = 1e4; mv[i] = 1.0; }
+        cp[12] = 12;
+        for (int nd = 0; nd < 4; nd++)
+            for (int d = 0; d < 6; d++) rows[6 * nd + d] = d < 3 ? 3 * nd + d : -1;
+        jprom_fe_model *fe = NULL;
+        jprom_model *dense = NULL;
+        const double frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        expect(jprom_set_memory_budget(0), JPROM_OK, "restore the default budget", NULL);
+        expect(jprom_fe_model_new_csc(12, cp, ri, kv, cp, ri, mv, 4, ids, rows, &fe), JPROM_OK, "a 12-DoF FE model", NULL);
+        expect(jprom_fe_model_add_contact(fe, 4, frame, 1e3, 1e3, 1e3, 0.3, 1.0), JPROM_OK, "a contact on it", NULL);
+        expect(jprom_set_memory_budget(1000), JPROM_OK, "a budget of 1000 bytes again", NULL);
+        expect(jprom_fe_model_unreduced(fe, &dense), JPROM_BAD_SIZE, "the unreduced FE model beyond the budget", "the unreduced FE model (12 DoFs, dense M, K) is too large");
+        check(dense == NULL, "nothing written by the refused unreduced model");
+        expect(jprom_set_memory_budget(0), JPROM_OK, "restore the default budget", NULL);
+        expect(jprom_fe_model_unreduced(NULL, &dense), JPROM_NULL_ARGUMENT, "the unreduced model of NULL", "fe");
+        expect(jprom_fe_model_unreduced(fe, NULL), JPROM_NULL_ARGUMENT, "the unreduced model into NULL", "out");
+        expect(jprom_fe_model_unreduced(fe, &dense), JPROM_OK, "the unreduced FE model", NULL);
+        size_t n_dense = 0, n_contacts = 0;
+        jprom_model_n_dof(dense, &n_dense);
+        jprom_model_n_contacts(dense, &n_contacts);
+        check(n_dense == 12 && n_contacts == 1, "every FE DoF kept, the contact on it");
+        jprom_model_free(dense);
+        jprom_fe_model_free(fe);
+    }
     expect(jprom_set_memory_budget(0), JPROM_OK, "restore the default budget", NULL);
     size_t again = 0;
     jprom_memory_budget(&again);

@@ -7,9 +7,9 @@ program fe_calculix
   implicit none
   character(len=1024) :: deck, arg, msg
   real(c_double) :: v(8), frame(3, 3), omega, amps(1), e1
-  integer :: i, cb_modes, n_tip, n_out, n_load, n, ncorr, reason
+  integer :: i, cb_modes, n_tip, n_out, n_load, n, ncorr, reason, n_fe, n_full(3)
   integer(c_int64_t) :: tip(256), out_nodes(16), load(1)
-  type(c_ptr) :: fe, model, sweep, basis
+  type(c_ptr) :: fe, model, sweep, basis, full
   type(jprom_hbm_options) :: opts
   type(jprom_sweep_options) :: band
   type(jprom_jp_options) :: jo
@@ -37,6 +37,15 @@ program fe_calculix
     call check(jp_fe_add_output(fe, out_nodes(i), 2, msg), 'output')
   end do
   call check(jp_fe_reduce(fe, cb_modes, model, msg), 'reduce')
+  ! the same placement without reduction: every FE DoF kept, the same contacts and outputs
+  call check(jp_fe_unreduced(fe, full, msg), 'unreduced')
+  call check(jp_fe_n_dof(fe, n_fe), 'FE DoFs')
+  call check(jp_model_sizes(full, n_full(1), n_full(2), n_full(3), msg), 'unreduced sizes')
+  if (n_full(1) /= n_fe .or. n_full(2) /= n_tip .or. n_full(3) /= n_out) then
+    print '(a, 3i8, a, 3i8)', 'FAIL unreduced model sizes', n_full, ' expected', n_fe, n_tip, n_out
+    stop 1
+  end if
+  i = jp_model_free(full)
   i = jp_fe_free(fe)
   call check(jp_set_damping(model, 0d0, v(8), msg), 'damping')
   call check(jp_set_dynamic_scale(model, v(5), msg), 'scale')
