@@ -39,6 +39,7 @@
 //! `cargo bench --bench jp_blade_2k` (about an hour on 2 cores). Environment:
 //! `JPROM_2K_REFINEMENT` (default 15), `JPROM_2K_SAMPLES` (p̂ samples, default 8),
 //! `JPROM_2K_H` (default 1), `JPROM_2K_STOP=cb` to stop after the Craig-Bampton reduction,
+//! `JPROM_2K_BUDGET` (bytes; default 70 % of the memory) the memory budget of every stage,
 //! `JPROM_2K_CACHE=dir` to keep the reduced model in `dir` and reuse it on the next run.
 //! The stage table (with the memory budget's estimate of one contact pattern beside the
 //! measured peak) is saved to `target/bench-results/jp_blade_2k_r<refinement>_h<H>.md`; a
@@ -119,6 +120,10 @@ fn main() {
     let n_samples = env_usize("JPROM_2K_SAMPLES", 8);
     let h = env_usize("JPROM_2K_H", 1);
     let stop_after_cb = std::env::var("JPROM_2K_STOP").map(|v| v == "cb").unwrap_or(false);
+    if let Some(bytes) = std::env::var("JPROM_2K_BUDGET").ok().and_then(|v| v.parse().ok()) {
+        jprom::memory::MemoryBudget::set_global(Some(jprom::memory::MemoryBudget::new(bytes)));
+    }
+    eprintln!("[memory budget {}]", jprom::memory::human_bytes(jprom::memory::MemoryBudget::global().bytes as u128));
     let band = (2.0 * PI * BAND_HZ.0, 2.0 * PI * BAND_HZ.1);
 
     let cache = std::env::var("JPROM_2K_CACHE").ok().map(|d| std::path::PathBuf::from(d).join(format!("blade_r{refinement}")));
