@@ -6,11 +6,6 @@
 //! fresh process so that its peak is its own.
 //!
 //! `cargo bench --bench fe_cb` runs both sizes; `cargo bench --bench fe_cb -- 60k` one of them.
-//!
-//! Measured (2 cores, quiet machine, 2026-12-01): 60k (60,147 DoFs, 41 tip contacts) CB 17.0 s,
-//! 0.63 GB peak; 200k (200,385 DoFs, 61 tip contacts, factor of `K_ii` 186 M values) assembly
-//! 7.3 s, CB 87 s, 3.3 GB peak. With the Lanczos subspace at 2 x 50 modes (before) the 200k
-//! CB had not converged its modes after 14 min (60k: 13.5 s).
 
 mod common;
 

@@ -218,7 +218,7 @@ pub struct SparseEigen {
 pub const LANCZOS_TOLERANCE: f64 = 1e-11;
 
 /// Computes the `n_modes` lowest eigenpairs of `K x = lambda M x` with `K` already factorised
-/// (`chol`), `M` symmetric positive (semi-)definite. Small problems (`n <= max(3 n_modes, 64) + 1`)
+/// (`chol`), `M` symmetric positive (semi-)definite. Small problems (`n <= 2 n_modes + 64`)
 /// fall back to a dense solve.
 ///
 /// # Errors
@@ -233,10 +233,7 @@ pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> 
     if n_modes == 0 {
         return Ok(SparseEigen { eigenvalues: Vec::new(), vectors: Mat::zeros(n, 0) });
     }
-    // Krylov-Schur subspace of 3 n_modes: with 2 n_modes the 200k-DoF plate of benches/fe_cb.rs
-    // (50 modes, clustered) did not converge in 14 min of restarts; with 3 n_modes its
-    // Craig-Bampton takes 87 s (the 60k plate: 13.5 s -> 17 s).
-    let max_dim = (3 * n_modes).max(64);
+    let max_dim = (2 * n_modes).max(64);
     // Dense operator for small problems (faer's Krylov-Schur needs n > its subspace size).
     let op0 = ShiftInvert { chol, mass, scale: 1.0 };
     let (mus, ys): (Vec<f64>, Mat<f64>) = if n <= max_dim + 1 {
