@@ -41,7 +41,8 @@ module jprom_c
                                JPROM_CALLBACK_ERROR = 12
   !> Reduced-model kinds (jprom_rom_kind) and basis corrections (jprom_correction_kind).
   integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
-  integer(c_int), parameter :: JPROM_CORRECTION_REGENERATED = 0, JPROM_CORRECTION_GAMMA_INCREASED = 1
+  integer(c_int), parameter :: JPROM_CORRECTION_REGENERATED = 0, JPROM_CORRECTION_GAMMA_INCREASED = 1, &
+                               JPROM_CORRECTION_REPLACED = 2
   !> Where the JP prediction samples besides the stuck mode (jprom_slipping_samples, jprom_jp_options%slipping).
   integer(c_int), parameter :: JPROM_SLIPPING_NEVER = 0, JPROM_SLIPPING_AT_GROSS_SLIP = 1, JPROM_SLIPPING_ALWAYS = 2
   !> Why a sweep ended (jprom_sweep_end in C).
@@ -906,8 +907,8 @@ module jprom
                      JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
                      JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, &
                      JPROM_PARSE, JPROM_CALLBACK_ERROR, JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, &
-                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, &
-                     JPROM_SLIPPING_ALWAYS, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
+                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_CORRECTION_REPLACED, JPROM_SLIPPING_NEVER, &
+                     JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
                      JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_MAX_HARMONICS, &
                      JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   implicit none
@@ -916,7 +917,8 @@ module jprom
   public :: JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
             JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, JPROM_PARSE, &
             JPROM_CALLBACK_ERROR
-  public :: JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED
+  public :: JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED, &
+            JPROM_CORRECTION_REPLACED
   public :: JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS
   public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
             JPROM_SWEEP_CANCELLED
@@ -1847,7 +1849,7 @@ contains
   end function
 
   !> Correction k (1-based, in order) of a self-correcting sweep: its kind
-  !> (JPROM_CORRECTION_REGENERATED or _GAMMA_INCREASED), the omega it regenerated from or the
+  !> (JPROM_CORRECTION_REPLACED, _REGENERATED or _GAMMA_INCREASED), the omega it regenerated from or the
   !> new gamma, the worst e*_1 before and after it, and the basis sizes n_h after it, sizes(0:H).
   integer function jp_sweep_correction(sweep, k, kind, value, worst_before, worst_after, sizes, message)
     use jprom_c, only: jprom_sweep_result_correction

@@ -162,6 +162,11 @@ typedef enum {
   JPROM_CORRECTION_REGENERATED = 0,
   // Modes predicted with a larger `gamma` (the value is the new gamma).
   JPROM_CORRECTION_GAMMA_INCREASED = 1,
+  // Modes regenerated from the reduced solution at the point of worst `e*_1`, swept alone in
+  // place of the basis (the value is that point's omega, rad/s). Within the threshold they
+  // are the basis; otherwise a `JPROM_CORRECTION_REGENERATED` (their union with the basis)
+  // follows, and the better of the two is kept. Since 0.3.
+  JPROM_CORRECTION_REPLACED = 2,
 } jprom_correction_kind;
 
 // Where the JP prediction samples the contacts besides the stuck mode: the
@@ -587,7 +592,8 @@ jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
 jprom_status jprom_sweep_result_n_corrections(const jprom_sweep_result *sweep, size_t *out);
 
 // Correction `index` (in order, 0-based) of an adaptive sweep: its kind
-// (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
+// (`JPROM_CORRECTION_REPLACED`, `JPROM_CORRECTION_REGENERATED` or
+// `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
 // regenerated from or the new gamma (`value`), the worst `e*_1` of the sweep before and after
 // it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
 // may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out

@@ -474,6 +474,11 @@ pub enum jprom_correction_kind {
     JPROM_CORRECTION_REGENERATED = 0,
     /// Modes predicted with a larger `gamma` (the value is the new gamma).
     JPROM_CORRECTION_GAMMA_INCREASED = 1,
+    /// Modes regenerated from the reduced solution at the point of worst `e*_1`, swept alone in
+    /// place of the basis (the value is that point's omega, rad/s). Within the threshold they
+    /// are the basis; otherwise a `JPROM_CORRECTION_REGENERATED` (their union with the basis)
+    /// follows, and the better of the two is kept. Since 0.3.
+    JPROM_CORRECTION_REPLACED = 2,
 }
 
 /// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
@@ -487,7 +492,8 @@ pub unsafe extern "C" fn jprom_sweep_result_n_corrections(sweep: *const jprom_sw
 }
 
 /// Correction `index` (in order, 0-based) of an adaptive sweep: its kind
-/// (`JPROM_CORRECTION_REGENERATED` or `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
+/// (`JPROM_CORRECTION_REPLACED`, `JPROM_CORRECTION_REGENERATED` or
+/// `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
 /// regenerated from or the new gamma (`value`), the worst `e*_1` of the sweep before and after
 /// it, and the basis sizes `n_h`, `h = 0..H` after it into `sizes` of capacity `len` (`sizes`
 /// may be NULL with `len` 0). Each pointer may be NULL. `JPROM_INVALID_VALUE` if `index` is out
@@ -517,6 +523,7 @@ pub unsafe extern "C" fn jprom_sweep_result_correction(
         let (k, v) = match c.kind {
             CorrectionKind::Regenerated { from_omega } => (jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int, from_omega),
             CorrectionKind::GammaIncreased { gamma } => (jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int, gamma),
+            CorrectionKind::Replaced { from_omega } => (jprom_correction_kind::JPROM_CORRECTION_REPLACED as c_int, from_omega),
         };
         buf.copy_from_slice(&c.sizes[..buf.len()]);
         if let Some(x) = kind.as_mut() {

@@ -267,19 +267,20 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     let hopts = HbmOptions::default();
     let mut pred = PredictionOptions::new(band);
     pred.n_samples = 30;
-    // the predicted basis is good to ~1e-9 on this model: a threshold below that forces both
-    // kinds of correction (regenerations until one does not halve the error, then a larger
-    // gamma)
-    let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 3, ..AdaptiveOptions::default() };
+    // the predicted basis is good to ~1e-9 on this model: a threshold below that forces every
+    // kind of correction (the regenerated modes alone, then their union with the basis, until
+    // a regeneration does not halve the error, then a larger gamma)
+    let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 5, ..AdaptiveOptions::default() };
     let mut per_pass = std::collections::BTreeMap::<usize, usize>::new();
     let expect = adaptive_sweep_with_progress(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &aopts, &mut |pass, _| {
         *per_pass.entry(pass).or_default() += 1;
         ControlFlow::Continue(())
     })
     .unwrap();
-    assert_eq!(expect.corrections.len(), 3);
-    assert!(matches!(expect.corrections[0].kind, CorrectionKind::Regenerated { .. }), "{:?}", expect.corrections);
-    assert!(matches!(expect.corrections[2].kind, CorrectionKind::GammaIncreased { .. }), "{:?}", expect.corrections);
+    assert_eq!(expect.corrections.len(), 5, "{:?} {:?}", expect.corrections, expect.end);
+    assert!(matches!(expect.corrections[0].kind, CorrectionKind::Replaced { .. }), "{:?}", expect.corrections);
+    assert!(matches!(expect.corrections[1].kind, CorrectionKind::Regenerated { .. }), "{:?}", expect.corrections);
+    assert!(expect.corrections.iter().any(|c| matches!(c.kind, CorrectionKind::GammaIncreased { .. })), "{:?}", expect.corrections);
     unsafe extern "C" fn count(user: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
         let v = &mut *(user as *mut Vec<usize>);
         if index == 0 {
@@ -293,7 +294,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let (opts, sopts, mut jo) = c_options(band);
         jo.n_samples = 30;
         jo.threshold = 1e-12;
-        jo.max_corrections = 3;
+        jo.max_corrections = 5;
         let mut counts: Vec<usize> = Vec::new();
         let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
         ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, Some(count), &mut counts as *mut _ as *mut c_void, &mut s, &mut b));
@@ -314,6 +315,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
             let want = match c.kind {
                 CorrectionKind::Regenerated { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int), from_omega),
                 CorrectionKind::GammaIncreased { gamma } => ((jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int), gamma),
+                CorrectionKind::Replaced { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REPLACED as c_int), from_omega),
             };
             assert_eq!((kind, value, before, after, sizes.to_vec()), (want.0, want.1, c.worst_error_before, c.worst_error_after, c.sizes.clone()));
             // every pointer may be NULL

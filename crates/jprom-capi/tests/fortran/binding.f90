@@ -199,7 +199,8 @@ program binding
   call ok(jp_sweep_n_corrections(asweep, k), 'jp_sweep_n_corrections')
   if (k > 0) then
     call ok(jp_sweep_correction(asweep, 1, kind, value, wb, wa, sizes, msg), 'jp_sweep_correction')
-    call check(kind == JPROM_CORRECTION_REGENERATED .or. kind == JPROM_CORRECTION_GAMMA_INCREASED, 'correction kind')
+    call check(kind == JPROM_CORRECTION_REPLACED .or. kind == JPROM_CORRECTION_REGENERATED .or. &
+               kind == JPROM_CORRECTION_GAMMA_INCREASED, 'correction kind')
   end if
   call check(jp_sweep_correction(asweep, k + 1, kind, value, wb, wa, sizes, msg) == JPROM_INVALID_VALUE, &
              'correction n + 1 is refused')

@@ -2,8 +2,14 @@
 //! the stuck mode, sweep the reduced model, evaluate `e*_1` at every point; if its worst value
 //! exceeds the threshold, predict a new set of JP modes with the reduced solution at the point
 //! of worst `e*_1` as generating shape (its static part and first harmonic, cos and sin parts,
-//! (39)), unite them with the current basis ([`JpBasis::union`]: stacked and re-conditioned by
-//! SVD) and sweep again; if a regeneration does not halve the worst `e*_1`, the next correction
+//! (39)) and sweep with them alone in place of the basis ([`CorrectionKind::Replaced`]); if
+//! that pass is within the threshold the new modes are the basis (of the size of one
+//! prediction), otherwise they are united with the current basis ([`JpBasis::union`]: stacked
+//! and re-conditioned by SVD, [`CorrectionKind::Regenerated`]) and swept again, and the
+//! better of the two is kept. On the blade at
+//! alpha_ST / 100 the stuck-mode basis [37, 11] is replaced by [25, 11] (judged error 9.0e-3);
+//! the union would be [44, 20]. Each of these sweeps is a correction of its own (it counts
+//! towards `max_corrections`). If a regeneration does not halve the worst `e*_1`, the next correction
 //! enlarges `gamma` instead (re-predicting along the last shape and uniting as well). A
 //! correction after which the worst `e*_1` is larger is reported (its `worst_error_after` is
 //! above its `worst_error_before`) and dropped: the sweep goes on from the basis before it, so
@@ -106,6 +112,8 @@ pub enum CorrectionKind {
     Regenerated { from_omega: f64 },
     /// Modes re-predicted along the last shape with a larger `gamma` and united with the basis.
     GammaIncreased { gamma: f64 },
+    /// Modes predicted along the reduced solution at `from_omega`, alone, in place of the basis.
+    Replaced { from_omega: f64 },
 }
 
 /// One correction of the basis and its effect.
@@ -113,8 +121,10 @@ pub enum CorrectionKind {
 pub struct Correction {
     pub kind: CorrectionKind,
     /// Worst `e*_1` over the sweep before and after (before is infinite when the previous basis
-    /// did not converge at the first frequency of the band, so there was no sweep to judge).
-    /// The corrected basis is kept only if `after < before`.
+    /// did not converge at the first frequency of the band, so there was no sweep to judge;
+    /// after is infinite when the corrected basis did not). The corrected basis is kept only if
+    /// `after < before`; of a [`CorrectionKind::Replaced`] and the union that follows it, the
+    /// one with the smaller `after`.
     pub worst_error_before: f64,
     pub worst_error_after: f64,
     /// Basis sizes `n_h` after.
@@ -346,24 +356,62 @@ pub fn adaptive_sweep_from(
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
         let (fresh, r) = predict_basis(coords, &popts)?;
+        // The regenerated modes alone first: where they suffice, the basis keeps the size of one
+        // prediction instead of growing by the union. Their sweep is a correction of its own;
+        // within the threshold it ends the corrections, otherwise, if better than the basis
+        // before, it competes with the union below.
+        let mut alone_candidate: Option<(JpBasis, PredictionReport, Box<dyn ReducedModel>, Pass)> = None;
+        if let CorrectionKind::Regenerated { from_omega } = kind {
+            let alone_rom = super::reduced_model(aopts.kind, coords, condensed, &fresh)?;
+            let alone = match run_pass(alone_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point) {
+                Ok(p) => Some(p),
+                Err(JpError::NoConvergence { .. }) => None,
+                Err(e) => return Err(e),
+            };
+            let after = alone.as_ref().map_or(f64::INFINITY, |p| p.worst);
+            corrections.push(Correction { kind: CorrectionKind::Replaced { from_omega }, worst_error_before: before, worst_error_after: after, sizes: fresh.sizes.clone() });
+            if let Some(alone) = alone.filter(|p| p.worst < before || p.sweep.end == SweepEnd::StoppedByCaller) {
+                alone_candidate = Some((fresh.clone(), r.clone(), alone_rom, alone));
+            }
+            let within = after <= aopts.threshold;
+            let stopped = alone_candidate.as_ref().is_some_and(|c| c.3.sweep.end == SweepEnd::StoppedByCaller);
+            if within || stopped || corrections.len() >= aopts.max_corrections {
+                if let Some((b, r, m, p)) = alone_candidate {
+                    (basis, prediction, rom, pass) = (b, r, m, p);
+                }
+                regenerate_next = true;
+                continue;
+            }
+        }
         let b = basis.union(&fresh, popts.gamma)?;
         let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
         let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point)?;
         corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
-        // Regenerate again only if it helped; otherwise grow gamma next.
-        regenerate_next = new_pass.worst < 0.5 * before && popts.gamma < aopts.max_gamma;
-        if popts.gamma >= aopts.max_gamma {
-            regenerate_next = true;
-        }
         // A correction that made the worst e*_1 larger is reported but not kept (the Galerkin
         // error need not fall as the basis grows: on the blade at alpha_ST / 3000 a third
-        // regeneration took it from 0.077 to 0.12). A pass stopped by the caller is kept.
+        // regeneration took it from 0.077 to 0.12). A pass stopped by the caller is kept. Of the
+        // regenerated modes alone and their union, the one with the smaller error is kept.
         let stopped = new_pass.sweep.end == SweepEnd::StoppedByCaller;
-        if new_pass.worst < before || stopped {
-            basis = b;
-            prediction = r;
-            rom = new_rom;
-            pass = new_pass;
+        let after = match alone_candidate {
+            Some((b, r, m, p)) if !stopped && p.worst <= new_pass.worst => {
+                let w = p.worst;
+                (basis, prediction, rom, pass) = (b, r, m, p);
+                w
+            }
+            _ => {
+                if new_pass.worst < before || stopped {
+                    basis = b;
+                    prediction = r;
+                    rom = new_rom;
+                    pass = new_pass;
+                }
+                pass.worst
+            }
+        };
+        // Regenerate again only if it helped; otherwise grow gamma next.
+        regenerate_next = after < 0.5 * before && popts.gamma < aopts.max_gamma;
+        if popts.gamma >= aopts.max_gamma {
+            regenerate_next = true;
         }
     };
     Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks: pass.checks, worst_error: pass.worst, end })
