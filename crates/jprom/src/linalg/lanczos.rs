@@ -217,14 +217,38 @@ pub struct SparseEigen {
 /// Relative tolerance of the Lanczos residual (on the operator scaled to unit norm).
 pub const LANCZOS_TOLERANCE: f64 = 1e-11;
 
+/// Above this many interior DoFs the Krylov-Schur subspace of [`lowest_modes`] holds
+/// `3 n_modes` vectors instead of `2 n_modes` (at least 64 either way). Measured on the hex8
+/// plates of `benches/fe_cb.rs` (2 cores, 50 modes): at 200,385 DoFs, where one shift-invert
+/// application takes 0.3 s, the 50 lowest modes had not converged after 14 min of restarts
+/// with `2 n_modes`, and the whole Craig-Bampton takes 87 s with `3 n_modes`; at 60,147 DoFs
+/// `2 n_modes` is the faster (13.5 s against 17.0 s). Models up to this size (every test
+/// model, the blade to refinement 15) keep `2 n_modes`.
+pub const LARGE_MODEL_DOFS: usize = 150_000;
+
+/// `max_dim / n_modes` of the Krylov-Schur subspace for a problem of `n` DoFs (see
+/// [`LARGE_MODEL_DOFS`]).
+fn krylov_subspace_factor(n: usize) -> usize {
+    if n > LARGE_MODEL_DOFS {
+        3
+    } else {
+        2
+    }
+}
+
 /// Computes the `n_modes` lowest eigenpairs of `K x = lambda M x` with `K` already factorised
-/// (`chol`), `M` symmetric positive (semi-)definite. Small problems (`n <= 2 n_modes + 64`)
-/// fall back to a dense solve.
+/// (`chol`), `M` symmetric positive (semi-)definite. Small problems (`n <= max(2 n_modes, 64)
+/// + 1`) fall back to a dense solve.
 ///
 /// # Errors
 /// [`JpError::BadSize`] for mismatched sizes, [`JpError::Eigen`] if fewer than `n_modes`
 /// eigenpairs converge.
 pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> Result<SparseEigen> {
+    lowest_modes_in_subspace(chol, mass, n_modes, krylov_subspace_factor(chol.n))
+}
+
+/// [`lowest_modes`] with a Krylov-Schur subspace of `max(factor n_modes, 64)` vectors.
+fn lowest_modes_in_subspace(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize, factor: usize) -> Result<SparseEigen> {
     let n = chol.n;
     if mass.nrows() != n || mass.ncols() != n {
         return Err(JpError::bad_size("mass (rows)", n, mass.nrows()));
@@ -233,7 +257,7 @@ pub fn lowest_modes(chol: &SparseCholesky, mass: &SparseMat, n_modes: usize) -> 
     if n_modes == 0 {
         return Ok(SparseEigen { eigenvalues: Vec::new(), vectors: Mat::zeros(n, 0) });
     }
-    let max_dim = (2 * n_modes).max(64);
+    let max_dim = (factor * n_modes).max(64);
     // Dense operator for small problems (faer's Krylov-Schur needs n > its subspace size).
     let op0 = ShiftInvert { chol, mass, scale: 1.0 };
     let (mus, ys): (Vec<f64>, Mat<f64>) = if n <= max_dim + 1 {
@@ -333,6 +357,36 @@ mod tests {
             let back = &dense * &x;
             let err = (0..n).flat_map(|i| (0..2).map(move |j| (i, j))).map(|(i, j)| (back[(i, j)] - b[(i, j)]).abs()).fold(0.0, f64::max);
             assert!(err < 1e-10, "n = {n} (simplicial {simplicial}): |A x - b| = {err:e}");
+        }
+    }
+    /// Both subspace sizes (`2 n_modes`, the default, and `3 n_modes` above
+    /// [`LARGE_MODEL_DOFS`]) give the closed-form modes of a fixed-fixed spring chain, `K`
+    /// tridiagonal (2, -1), `M = I`: `lambda_k = 2 - 2 cos(k pi / (n + 1))`, with `M`-normalised
+    /// vectors.
+    #[test]
+    fn both_subspace_sizes_give_the_chain_modes() {
+        let (n, n_modes) = (3000usize, 40usize);
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 2.0));
+            if i + 1 < n {
+                t.push((i, i + 1, -1.0));
+                t.push((i + 1, i, -1.0));
+            }
+        }
+        let k = sparse_from_triplets(n, n, t).unwrap();
+        let m = sparse_from_triplets(n, n, (0..n).map(|i| (i, i, 1.0)).collect()).unwrap();
+        let chol = SparseCholesky::factor(&k, "chain").unwrap();
+        assert_eq!(krylov_subspace_factor(n), 2);
+        assert_eq!(krylov_subspace_factor(LARGE_MODEL_DOFS + 1), 3);
+        for factor in [2, 3] {
+            let e = lowest_modes_in_subspace(&chol, &m, n_modes, factor).unwrap();
+            for (j, &lambda) in e.eigenvalues.iter().enumerate() {
+                let exact = 2.0 - 2.0 * ((j + 1) as f64 * std::f64::consts::PI / (n + 1) as f64).cos();
+                assert!((lambda - exact).abs() <= 1e-8 * exact, "factor {factor}, mode {j}: {lambda:e} vs {exact:e}");
+                let norm = e.vectors.col(j).norm_l2();
+                assert!((norm - 1.0).abs() < 1e-8, "factor {factor}, mode {j}: |x|_M = {norm}");
+            }
         }
     }
 }
