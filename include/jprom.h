@@ -271,7 +271,8 @@ typedef struct {
   // Self-correcting sweep: the basis is corrected while the worst `e*_1` of the sweep
   // exceeds this (default 0.05; must be > 0).
   double threshold;
-  // Most corrections (default 5; 0 = predict and sweep once).
+  // Most correction steps (default 5; 0 = predict and sweep once). A regeneration is one
+  // step, reported as one or two corrections (the modes alone, then their union).
   size_t max_corrections;
   // Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
   // (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).
@@ -564,9 +565,10 @@ jprom_status jprom_basis_from_solution(const jprom_model *model,
 // The self-correcting reduced sweep, jprom's default JP workflow (docs/formulation.md): predicts
 // a basis for the band `[sweep_opts->omega_start, omega_end]` along the stuck mode, sweeps the
 // reduced model `kind` (`JPROM_ROM_FR` or `JPROM_ROM_NLR`) with `e*_h` at every point, and
-// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` times)
-// unites the basis with modes regenerated from the worst reduced point (or predicted with a
-// larger `gamma`) and sweeps again. Read the corrections with `jprom_sweep_result_n_corrections` /
+// while the worst `e*_1` exceeds `jp_options->threshold` (at most `max_corrections` steps)
+// regenerates modes from the worst reduced point and sweeps with them alone, then, if that is
+// not within the threshold, with their union with the basis (or unites the basis with modes
+// predicted with a larger `gamma`). Read the corrections with `jprom_sweep_result_n_corrections` /
 // `jprom_sweep_result_correction`, `e*` with `jprom_sweep_result_point_predicted_error`.
 //
 // `callback` (may be NULL) is called after each converged point of each reduced sweep;

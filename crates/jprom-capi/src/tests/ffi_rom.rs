@@ -270,17 +270,24 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     // the predicted basis is good to ~1e-9 on this model: a threshold below that forces every
     // kind of correction (the regenerated modes alone, then their union with the basis, until
     // a regeneration does not halve the error, then a larger gamma)
-    let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 5, ..AdaptiveOptions::default() };
+    let aopts = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-12, max_corrections: 3, ..AdaptiveOptions::default() };
     let mut per_pass = std::collections::BTreeMap::<usize, usize>::new();
     let expect = adaptive_sweep_with_progress(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &aopts, &mut |pass, _| {
         *per_pass.entry(pass).or_default() += 1;
         ControlFlow::Continue(())
     })
     .unwrap();
-    assert_eq!(expect.corrections.len(), 5, "{:?} {:?}", expect.corrections, expect.end);
-    assert!(matches!(expect.corrections[0].kind, CorrectionKind::Replaced { .. }), "{:?}", expect.corrections);
-    assert!(matches!(expect.corrections[1].kind, CorrectionKind::Regenerated { .. }), "{:?}", expect.corrections);
-    assert!(expect.corrections.iter().any(|c| matches!(c.kind, CorrectionKind::GammaIncreased { .. })), "{:?}", expect.corrections);
+    // three steps: two regenerations (the modes alone, then their union) and a larger gamma
+    let kinds: Vec<u8> = expect
+        .corrections
+        .iter()
+        .map(|c| match c.kind {
+            CorrectionKind::Replaced { .. } => 0,
+            CorrectionKind::Regenerated { .. } => 1,
+            CorrectionKind::GammaIncreased { .. } => 2,
+        })
+        .collect();
+    assert_eq!(kinds, [0, 1, 0, 1, 2], "{:?}", expect.corrections);
     unsafe extern "C" fn count(user: *mut c_void, index: usize, _: f64, _: *const f64, _: usize) -> c_int {
         let v = &mut *(user as *mut Vec<usize>);
         if index == 0 {
@@ -294,7 +301,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let (opts, sopts, mut jo) = c_options(band);
         jo.n_samples = 30;
         jo.threshold = 1e-12;
-        jo.max_corrections = 5;
+        jo.max_corrections = 3;
         let mut counts: Vec<usize> = Vec::new();
         let (mut s, mut b) = (std::ptr::null_mut(), std::ptr::null_mut());
         ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo, Some(count), &mut counts as *mut _ as *mut c_void, &mut s, &mut b));

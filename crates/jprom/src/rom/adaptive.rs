@@ -8,8 +8,10 @@
 //! and re-conditioned by SVD, [`CorrectionKind::Regenerated`]) and swept again, and the
 //! better of the two is kept. On the blade at
 //! alpha_ST / 100 the stuck-mode basis [37, 11] is replaced by [25, 11] (judged error 9.0e-3);
-//! the union would be [44, 20]. Each of these sweeps is a correction of its own (it counts
-//! towards `max_corrections`). If a regeneration does not halve the worst `e*_1`, the next correction
+//! the union would be [44, 20]. Each of these sweeps is reported as a correction of its own,
+//! but `max_corrections` counts steps: a regeneration is one step, its union included (on the
+//! 50-contact blade at alpha_ST / 3000, four steps reach the threshold; counted one per sweep
+//! they ran out first). If a regeneration does not halve the worst `e*_1`, the next correction
 //! enlarges `gamma` instead (re-predicting along the last shape and uniting as well). A
 //! correction after which the worst `e*_1` is larger is reported (its `worst_error_after` is
 //! above its `worst_error_before`) and dropped: the sweep goes on from the basis before it, so
@@ -48,8 +50,9 @@ pub struct AdaptiveOptions {
     pub kind: RomKind,
     /// `e*_1` above which a basis is corrected (default [`POOR_BASIS_THRESHOLD`] = 0.05).
     pub threshold: f64,
-    /// Most corrections (default 5; on the blade at alpha_ST / 3000 the fourth brought the
-    /// worst e*_1 from 0.077 to 0.026).
+    /// Most correction steps (default 5; on the blade at alpha_ST / 3000 the fourth brought the
+    /// worst e*_1 from 0.077 to 0.026). A regeneration is one step: the regenerated modes
+    /// alone and, unless they are within the threshold, their union with the basis.
     pub max_corrections: usize,
     /// Factor applied to `gamma` when regeneration alone is not enough (default 10), up to
     /// `max_gamma` (default 1e6).
@@ -95,7 +98,7 @@ pub struct ErrorCheck {
 pub enum CorrectionEnd {
     /// The worst error of the final pass is within the threshold.
     WithinThreshold,
-    /// `max_corrections` corrections were made.
+    /// `max_corrections` correction steps were made.
     MaxCorrections,
     /// No correction is left to try: a regeneration did not improve the basis and `gamma` is at
     /// `max_gamma`.
@@ -326,6 +329,8 @@ pub fn adaptive_sweep_from(
         c.worst_error_after = pass.worst;
     }
     let mut regenerate_next = true;
+    // Correction steps made (a regeneration is one step, its union included).
+    let mut steps = corrections.len();
     let end = loop {
         if pass.sweep.end == SweepEnd::StoppedByCaller {
             break CorrectionEnd::Stopped;
@@ -333,7 +338,7 @@ pub fn adaptive_sweep_from(
         if pass.worst <= aopts.threshold {
             break CorrectionEnd::WithinThreshold;
         }
-        if corrections.len() >= aopts.max_corrections {
+        if steps >= aopts.max_corrections {
             break CorrectionEnd::MaxCorrections;
         }
         // A regeneration from the same point at the largest gamma would repeat a dropped one.
@@ -356,10 +361,11 @@ pub fn adaptive_sweep_from(
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
         let (fresh, r) = predict_basis(coords, &popts)?;
+        steps += 1;
         // The regenerated modes alone first: where they suffice, the basis keeps the size of one
-        // prediction instead of growing by the union. Their sweep is a correction of its own;
-        // within the threshold it ends the corrections, otherwise, if better than the basis
-        // before, it competes with the union below.
+        // prediction instead of growing by the union. Their sweep is reported as a correction
+        // of its own but is part of this step; within the threshold it ends the corrections,
+        // otherwise, if better than the basis before, it competes with the union below.
         let mut alone_candidate: Option<(JpBasis, PredictionReport, Box<dyn ReducedModel>, Pass)> = None;
         if let CorrectionKind::Regenerated { from_omega } = kind {
             let alone_rom = super::reduced_model(aopts.kind, coords, condensed, &fresh)?;
@@ -375,7 +381,7 @@ pub fn adaptive_sweep_from(
             }
             let within = after <= aopts.threshold;
             let stopped = alone_candidate.as_ref().is_some_and(|c| c.3.sweep.end == SweepEnd::StoppedByCaller);
-            if within || stopped || corrections.len() >= aopts.max_corrections {
+            if within || stopped {
                 if let Some((b, r, m, p)) = alone_candidate {
                     (basis, prediction, rom, pass) = (b, r, m, p);
                 }
