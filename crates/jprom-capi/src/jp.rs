@@ -248,17 +248,27 @@ pub enum jprom_slipping_samples {
     JPROM_SLIPPING_ALWAYS = 2,
 }
 
-fn slipping_samples(v: c_int) -> Result<SlippingSamples, FfiError> {
-    use jprom_slipping_samples::*;
-    match v {
-        k if k == JPROM_SLIPPING_NEVER as c_int => Ok(SlippingSamples::Never),
-        k if k == JPROM_SLIPPING_AT_GROSS_SLIP as c_int => Ok(SlippingSamples::AtGrossSlip),
-        k if k == JPROM_SLIPPING_ALWAYS as c_int => Ok(SlippingSamples::Always),
-        k => Err(FfiError::new(
-            JPROM_INVALID_VALUE,
-            format!("jprom_jp_options.slipping is {k}, not a jprom_slipping_samples (JPROM_SLIPPING_NEVER 0, JPROM_SLIPPING_AT_GROSS_SLIP 1, JPROM_SLIPPING_ALWAYS 2)"),
-        )),
+/// The one mapping between the Rust and the C enum (the parser below inverts it).
+impl From<SlippingSamples> for jprom_slipping_samples {
+    fn from(s: SlippingSamples) -> Self {
+        match s {
+            SlippingSamples::Never => jprom_slipping_samples::JPROM_SLIPPING_NEVER,
+            SlippingSamples::AtGrossSlip => jprom_slipping_samples::JPROM_SLIPPING_AT_GROSS_SLIP,
+            SlippingSamples::Always => jprom_slipping_samples::JPROM_SLIPPING_ALWAYS,
+        }
     }
+}
+
+fn slipping_samples(v: c_int) -> Result<SlippingSamples, FfiError> {
+    [SlippingSamples::Never, SlippingSamples::AtGrossSlip, SlippingSamples::Always]
+        .into_iter()
+        .find(|&s| jprom_slipping_samples::from(s) as c_int == v)
+        .ok_or_else(|| {
+            FfiError::new(
+                JPROM_INVALID_VALUE,
+                format!("jprom_jp_options.slipping is {v}, not a jprom_slipping_samples (JPROM_SLIPPING_NEVER 0, JPROM_SLIPPING_AT_GROSS_SLIP 1, JPROM_SLIPPING_ALWAYS 2)"),
+            )
+        })
 }
 
 impl Versioned for jprom_jp_options {
@@ -277,11 +287,7 @@ impl Versioned for jprom_jp_options {
             max_corrections: a.max_corrections,
             gamma_growth: a.gamma_growth,
             max_gamma: a.max_gamma,
-            slipping: match p.slipping {
-                SlippingSamples::Never => jprom_slipping_samples::JPROM_SLIPPING_NEVER,
-                SlippingSamples::AtGrossSlip => jprom_slipping_samples::JPROM_SLIPPING_AT_GROSS_SLIP,
-                SlippingSamples::Always => jprom_slipping_samples::JPROM_SLIPPING_ALWAYS,
-            } as c_int,
+            slipping: jprom_slipping_samples::from(p.slipping) as c_int,
         }
     }
 }
@@ -300,8 +306,44 @@ pub unsafe extern "C" fn jprom_jp_options_init(out: *mut jprom_jp_options, struc
     ffi_guard!({ write_defaults(out, struct_size) })
 }
 
+/// A checked `jp_options` argument: its values, and its enum fields parsed, so that no field is
+/// read unchecked.
+struct JpOptions {
+    c: jprom_jp_options,
+    slipping: SlippingSamples,
+}
+
+impl JpOptions {
+    fn modes(&self, band: (f64, f64)) -> ModeOptions {
+        let mut m = ModeOptions::in_band(band);
+        m.extra_outside = self.c.extra_outside;
+        m.static_correction = self.c.static_correction != 0;
+        m
+    }
+
+    fn prediction(&self, band: (f64, f64)) -> PredictionOptions {
+        let mut p = PredictionOptions::new(band);
+        p.gamma = self.c.gamma;
+        p.n_samples = self.c.n_samples;
+        p.modes = self.modes(band);
+        p.slipping = self.slipping;
+        p
+    }
+
+    fn adaptive(&self, kind: RomKind) -> AdaptiveOptions {
+        AdaptiveOptions {
+            kind,
+            threshold: self.c.threshold,
+            max_corrections: self.c.max_corrections,
+            gamma_growth: self.c.gamma_growth,
+            max_gamma: self.c.max_gamma,
+            ..AdaptiveOptions::default()
+        }
+    }
+}
+
 /// The `jp_options` argument: any released version, with finite and consistent values.
-unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<jprom_jp_options, FfiError> {
+unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<JpOptions, FfiError> {
     let o = read_options(p, "jp_options")?;
     finite_arg("gamma", o.gamma)?;
     finite_arg("threshold", o.threshold)?;
@@ -311,25 +353,8 @@ unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<jprom_jp_options,
     if o.max_gamma < o.gamma {
         return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
     }
-    slipping_samples(o.slipping)?;
-    Ok(o)
-}
-
-fn mode_options(o: &jprom_jp_options, band: (f64, f64)) -> ModeOptions {
-    let mut m = ModeOptions::in_band(band);
-    m.extra_outside = o.extra_outside;
-    m.static_correction = o.static_correction != 0;
-    m
-}
-
-fn prediction_options(o: &jprom_jp_options, band: (f64, f64)) -> PredictionOptions {
-    let mut p = PredictionOptions::new(band);
-    p.gamma = o.gamma;
-    p.n_samples = o.n_samples;
-    p.modes = mode_options(o, band);
-    // checked by jp_options_arg
-    p.slipping = slipping_samples(o.slipping).unwrap_or_default();
-    p
+    let slipping = slipping_samples(o.slipping)?;
+    Ok(JpOptions { c: o, slipping })
 }
 
 /// The band between `omega_start` and `omega_end`, in either order (as a sweep's
@@ -358,7 +383,7 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
         let out = out_arg(out, "out")?;
         let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, disc)?;
-        let (basis, _) = predict_basis(&coords, &prediction_options(&jo, band))?;
+        let (basis, _) = predict_basis(&coords, &jo.prediction(band))?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
     })
@@ -393,7 +418,7 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
         }
         let band = band_arg(omega_start, omega_end)?;
         let coords = ContactCoordinates::new(&m.model, disc)?;
-        let bopts = BasisOptions { modes: mode_options(&jo, band), gamma: jo.gamma };
+        let bopts = BasisOptions { modes: jo.modes(band), gamma: jo.c.gamma };
         let basis = JpBasis::from_solution(&coords, &sol.point, &bopts)?;
         *out = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         Ok(())
@@ -437,15 +462,8 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         let out = out_arg(out, "out")?;
         let kind = rom_kind(kind)?;
         // the JP band is the band swept, whichever way it is swept
-        let pred = prediction_options(&jo, (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
-        let aopts = AdaptiveOptions {
-            kind,
-            threshold: jo.threshold,
-            max_corrections: jo.max_corrections,
-            gamma_growth: jo.gamma_growth,
-            max_gamma: jo.max_gamma,
-            ..AdaptiveOptions::default()
-        };
+        let pred = jo.prediction((sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
+        let aopts = jo.adaptive(kind);
         // one progress counter per reduced sweep
         let mut pass_now = 0;
         let mut adapter = progress_adapter(callback, user_data);
