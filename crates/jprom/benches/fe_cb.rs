@@ -8,7 +8,8 @@
 //! `cargo bench --bench fe_cb` runs both sizes; `cargo bench --bench fe_cb -- 60k` one of them.
 //!
 //! Measured (2 cores, quiet machine, 2026-12-01): 60k (60,147 DoFs, 41 tip contacts) CB 13.5 s;
-//! 200k (200,385 DoFs, 61 tip contacts, factor of `K_ii` 186 M values) assembly 7.3 s, CB 87 s,
+//! 200k (200,385 DoFs, 61 tip contacts, factor of `K_ii` 186 M values) assembly 7.3 s, CB 87 s
+//! (91.7 s and 99.6 s in all on main at 74d3a2d),
 //! 3.3 GB peak, with the Lanczos subspace of `3 n_modes` that `linalg::lanczos` uses above
 //! `LARGE_MODEL_DOFS` (with `2 n_modes` its modes had not converged after 14 min).
 
