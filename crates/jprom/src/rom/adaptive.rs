@@ -366,25 +366,20 @@ pub fn adaptive_sweep_from(
         // prediction instead of growing by the union. Their sweep is reported as a correction
         // of its own but is part of this step; within the threshold it ends the corrections,
         // otherwise, if better than the basis before, it competes with the union below.
-        let mut alone_candidate: Option<(JpBasis, PredictionReport, Box<dyn ReducedModel>, Pass)> = None;
+        let mut alone: Option<(Box<dyn ReducedModel>, Pass)> = None;
         if let CorrectionKind::Regenerated { from_omega } = kind {
             let alone_rom = super::reduced_model(aopts.kind, coords, condensed, &fresh)?;
-            let alone = match run_pass(alone_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point) {
+            let p = match run_pass(alone_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point) {
                 Ok(p) => Some(p),
                 Err(JpError::NoConvergence { .. }) => None,
                 Err(e) => return Err(e),
             };
-            let after = alone.as_ref().map_or(f64::INFINITY, |p| p.worst);
+            let after = p.as_ref().map_or(f64::INFINITY, |p| p.worst);
             corrections.push(Correction { kind: CorrectionKind::Replaced { from_omega }, worst_error_before: before, worst_error_after: after, sizes: fresh.sizes.clone() });
-            if let Some(alone) = alone.filter(|p| p.worst < before || p.sweep.end == SweepEnd::StoppedByCaller) {
-                alone_candidate = Some((fresh.clone(), r.clone(), alone_rom, alone));
-            }
-            let within = after <= aopts.threshold;
-            let stopped = alone_candidate.as_ref().is_some_and(|c| c.3.sweep.end == SweepEnd::StoppedByCaller);
-            if within || stopped {
-                if let Some((b, r, m, p)) = alone_candidate {
-                    (basis, prediction, rom, pass) = (b, r, m, p);
-                }
+            let stopped = |p: &Pass| p.sweep.end == SweepEnd::StoppedByCaller;
+            alone = p.filter(|p| p.worst < before || stopped(p)).map(|p| (alone_rom, p));
+            if let Some((m, p)) = alone.take_if(|(_, p)| p.worst <= aopts.threshold || stopped(p)) {
+                (basis, prediction, rom, pass) = (fresh, r, m, p);
                 regenerate_next = true;
                 continue;
             }
@@ -398,22 +393,12 @@ pub fn adaptive_sweep_from(
         // regeneration took it from 0.077 to 0.12). A pass stopped by the caller is kept. Of the
         // regenerated modes alone and their union, the one with the smaller error is kept.
         let stopped = new_pass.sweep.end == SweepEnd::StoppedByCaller;
-        let after = match alone_candidate {
-            Some((b, r, m, p)) if !stopped && p.worst <= new_pass.worst => {
-                let w = p.worst;
-                (basis, prediction, rom, pass) = (b, r, m, p);
-                w
-            }
-            _ => {
-                if new_pass.worst < before || stopped {
-                    basis = b;
-                    prediction = r;
-                    rom = new_rom;
-                    pass = new_pass;
-                }
-                pass.worst
-            }
-        };
+        match alone {
+            Some((m, p)) if !stopped && p.worst <= new_pass.worst => (basis, prediction, rom, pass) = (fresh, r, m, p),
+            _ if new_pass.worst < before || stopped => (basis, prediction, rom, pass) = (b, r, new_rom, new_pass),
+            _ => {}
+        }
+        let after = pass.worst;
         // Regenerate again only if it helped; otherwise grow gamma next.
         regenerate_next = after < 0.5 * before && popts.gamma < aopts.max_gamma;
         if popts.gamma >= aopts.max_gamma {
