@@ -107,6 +107,25 @@ int main(int argc, char **argv) {
     printf("# first modes, contacts open: %.6g %.6g %.6g Hz; stuck: %.6g %.6g %.6g Hz (modal force %.3g %.3g %.3g)\n",
            free_hz[0], free_hz[1], free_hz[2], stuck_hz[0], stuck_hz[1], stuck_hz[2], modal_force[0], modal_force[1], modal_force[2]);
     printf("# JP NLR sweep: %zu points, %zu basis corrections, end: %s\n", n, n_corr, jprom_sweep_end_name((int)end));
+    for (size_t c = 0; c < n_corr; ++c) {
+        /* what each correction did: its kind, the judged error of the sweep before and after
+         * it, and the basis sizes n_h, h = 0..H, it left (H = opts.harmonics) */
+        int kind;
+        double value, before, after;
+        size_t sizes[8];
+        if (opts.harmonics + 1 > 8) return 1;
+        TRY(jprom_sweep_result_correction(sweep, c, &kind, &value, &before, &after, sizes, opts.harmonics + 1));
+        printf("# correction %zu: %s, worst error %.3g -> %.3g, n_h =", c + 1, jprom_correction_kind_name(kind), before, after);
+        for (size_t h = 0; h <= opts.harmonics; ++h) printf(" %zu", sizes[h]);
+        printf("\n");
+    }
+    /* why the corrections ended: above the threshold the basis stayed poor, and the sweep holds
+     * the best basis found */
+    jprom_correction_end corrections_end;
+    double judged;
+    TRY(jprom_sweep_result_correction_end(sweep, &corrections_end, &judged));
+    printf("# corrections ended: %s, judged error %.3g (threshold %g)%s\n", jprom_correction_end_name((int)corrections_end), judged,
+           jp.threshold, judged > jp.threshold ? ": the basis stayed poor" : "");
     printf("# omega_rad_s X1_out0_y e*_1\n");
     for (size_t i = 0; i < n; ++i) {
         double w, x1, e1;

@@ -26,6 +26,8 @@ program fe_example
   real(c_double), allocatable :: amps(:)
   integer(c_int64_t) :: tip(1024), out_nodes(64), load(8)
   integer :: i, n_dof, n_red, n_contacts, n_outputs, n_tip, n_out, n_load, n, n_corr, reason
+  integer :: kind, sizes(0:7), corrections_end
+  real(c_double) :: value, before, after, judged
   type(c_ptr) :: fe, model, sweep, basis
   type(jprom_hbm_options) :: opts
   type(jprom_sweep_options) :: band
@@ -82,6 +84,16 @@ program fe_example
     modal_force(2), ' ', modal_force(3), ')'
   if (reason == JPROM_SWEEP_REACHED_END) why = 'reached_end'
   write (*, '(a, i0, a, i0, a, a)') '# JP NLR sweep: ', n, ' points, ', n_corr, ' basis corrections, end: ', trim(why)
+  ! what each correction did: its kind, the judged error before and after it, the basis sizes n_h
+  do i = 1, n_corr
+    call check(jp_sweep_correction(sweep, i, kind, value, before, after, sizes(0:opts%harmonics), msg), 'jp_sweep_correction')
+    write (*, '(a, i0, a, a, a, g0.3, a, g0.3, a, *(1x, i0))') '# correction ', i, ': ', jp_correction_kind_name(kind), &
+      ', worst error ', before, ' -> ', after, ', n_h =', sizes(0:opts%harmonics)
+  end do
+  ! why the corrections ended: above the threshold the basis stayed poor (the sweep holds the best basis found)
+  call check(jp_sweep_correction_end(sweep, corrections_end, judged, msg), 'jp_sweep_correction_end')
+  write (*, '(a, a, a, g0.3, a, g0.3, a)') '# corrections ended: ', jp_correction_end_name(corrections_end), &
+    ', judged error ', judged, ' (threshold ', jp%threshold, ')'
   write (*, '(a)') '# omega_rad_s X1_out0_y e*_1'
   do i = 1, n
     call check(jp_sweep_point(sweep, i, omega, amps), 'jp_sweep_point')

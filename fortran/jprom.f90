@@ -43,6 +43,9 @@ module jprom_c
   integer(c_int), parameter :: JPROM_ROM_FR = 0, JPROM_ROM_NLR = 1
   integer(c_int), parameter :: JPROM_CORRECTION_REGENERATED = 0, JPROM_CORRECTION_GAMMA_INCREASED = 1, &
                                JPROM_CORRECTION_REPLACED = 2
+  !> Why the corrections of a self-correcting sweep ended (jprom_correction_end in C).
+  integer(c_int), parameter :: JPROM_CORRECTIONS_WITHIN_THRESHOLD = 0, JPROM_CORRECTIONS_MAX_CORRECTIONS = 1, &
+                               JPROM_CORRECTIONS_NO_PROGRESS = 2, JPROM_CORRECTIONS_CANCELLED = 3
   !> Where the JP prediction samples besides the stuck mode (jprom_slipping_samples, jprom_jp_options%slipping).
   integer(c_int), parameter :: JPROM_SLIPPING_NEVER = 0, JPROM_SLIPPING_AT_GROSS_SLIP = 1, JPROM_SLIPPING_ALWAYS = 2
   !> Why a sweep ended (jprom_sweep_end in C).
@@ -393,6 +396,23 @@ module jprom_c
       import :: c_ptr, c_int
       type(c_ptr) :: str
       integer(c_int), value :: reason
+    end function
+    function jprom_correction_kind_name(kind) result(str) bind(C, name="jprom_correction_kind_name")
+      import :: c_ptr, c_int
+      type(c_ptr) :: str
+      integer(c_int), value :: kind
+    end function
+    function jprom_correction_end_name(reason) result(str) bind(C, name="jprom_correction_end_name")
+      import :: c_ptr, c_int
+      type(c_ptr) :: str
+      integer(c_int), value :: reason
+    end function
+    integer(c_int) function jprom_sweep_result_correction_end(sweep, reason, judged_error) &
+        bind(C, name="jprom_sweep_result_correction_end")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sweep
+      integer(c_int), intent(out) :: reason
+      real(c_double), intent(out) :: judged_error
     end function
     integer(c_int) function jprom_sweep_result_reached_end(sweep, out) bind(C, name="jprom_sweep_result_reached_end")
       import :: c_int, c_ptr
@@ -907,7 +927,9 @@ module jprom
                      JPROM_OK, JPROM_NULL_ARGUMENT, JPROM_BAD_SIZE, JPROM_INVALID_VALUE, JPROM_SINGULAR_MATRIX, &
                      JPROM_NO_CONVERGENCE, JPROM_IO, JPROM_PANIC, JPROM_CANCELLED, JPROM_INVALID_HANDLE, JPROM_EIGEN, &
                      JPROM_PARSE, JPROM_CALLBACK_ERROR, JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, &
-                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_CORRECTION_REPLACED, JPROM_SLIPPING_NEVER, &
+                     JPROM_CORRECTION_GAMMA_INCREASED, JPROM_CORRECTION_REPLACED, JPROM_CORRECTIONS_WITHIN_THRESHOLD, &
+                     JPROM_CORRECTIONS_MAX_CORRECTIONS, JPROM_CORRECTIONS_NO_PROGRESS, JPROM_CORRECTIONS_CANCELLED, &
+                     JPROM_SLIPPING_NEVER, &
                      JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
                      JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_MAX_HARMONICS, &
                      JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
@@ -919,6 +941,8 @@ module jprom
             JPROM_CALLBACK_ERROR
   public :: JPROM_ROM_FR, JPROM_ROM_NLR, JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED, &
             JPROM_CORRECTION_REPLACED
+  public :: JPROM_CORRECTIONS_WITHIN_THRESHOLD, JPROM_CORRECTIONS_MAX_CORRECTIONS, JPROM_CORRECTIONS_NO_PROGRESS, &
+            JPROM_CORRECTIONS_CANCELLED
   public :: JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS
   public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
             JPROM_SWEEP_CANCELLED
@@ -944,7 +968,7 @@ module jprom
   ! JP reduction
   public :: jp_basis_predict, jp_basis_from_solution, jp_basis_sizes, jp_basis_free, jp_basis_save, jp_basis_load, &
             jp_rom_sweep, jp_rom_sweep_adaptive, jp_sweep_point_error, jp_sweep_n_corrections, jp_sweep_correction, &
-            jp_rom_actual_error
+            jp_correction_kind_name, jp_sweep_correction_end, jp_correction_end_name, jp_rom_actual_error
   ! FE models
   public :: jp_fe_new_csc, jp_fe_load_calculix, jp_fe_free, jp_fe_n_dof, jp_fe_node_set, jp_fe_add_contact, &
             jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce, jp_fe_unreduced
@@ -1867,6 +1891,42 @@ contains
       sizes = int(buf)
     end if
     jp_sweep_correction = finish(s, message)
+  end function
+
+  !> A short name for a correction kind ("replaced", "regenerated", "gamma_increased"; "unknown" otherwise).
+  function jp_correction_kind_name(kind) result(name)
+    use jprom_c, only: jprom_correction_kind_name
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: name
+    name = from_c(jprom_correction_kind_name(int(kind, c_int)))
+  end function
+
+  !> Why the corrections of a self-correcting sweep ended (JPROM_CORRECTIONS_WITHIN_THRESHOLD, _MAX_CORRECTIONS,
+  !> _NO_PROGRESS or _CANCELLED) and the judged error of its final pass: above jp%threshold the basis stayed poor.
+  !> JPROM_INVALID_VALUE for a sweep that is not a self-correcting sweep's result.
+  integer function jp_sweep_correction_end(sweep, reason, judged_error, message)
+    use jprom_c, only: jprom_sweep_result_correction_end
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: reason
+    real(c_double), intent(out) :: judged_error
+    character(len=*), intent(out), optional :: message
+    integer(c_int) :: s, e
+    real(c_double) :: w
+    s = jprom_sweep_result_correction_end(sweep, e, w)
+    if (s == JPROM_OK) then
+      reason = int(e)
+      judged_error = w
+    end if
+    jp_sweep_correction_end = finish(s, message)
+  end function
+
+  !> A short name for a correction end ("within_threshold", "max_corrections", "no_progress", "cancelled";
+  !> "unknown" otherwise).
+  function jp_correction_end_name(reason) result(name)
+    use jprom_c, only: jprom_correction_end_name
+    integer, intent(in) :: reason
+    character(len=:), allocatable :: name
+    name = from_c(jprom_correction_end_name(int(reason, c_int)))
   end function
 
   !> The actual error e_h, h = 0..H, of a reduced solution (a point of a reduced sweep on

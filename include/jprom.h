@@ -130,6 +130,20 @@ typedef enum {
   JPROM_CALLBACK_ERROR = 12,
 } jprom_status;
 
+// Why the corrections of `jprom_rom_sweep_adaptive` ended, from
+// `jprom_sweep_result_correction_end`. Since 0.3.
+typedef enum {
+  // The judged error of the final pass is within `jprom_jp_options.threshold`.
+  JPROM_CORRECTIONS_WITHIN_THRESHOLD = 0,
+  // `max_corrections` steps were made; the basis stayed above the threshold.
+  JPROM_CORRECTIONS_MAX_CORRECTIONS = 1,
+  // No correction was left to try (a regeneration did not improve the basis and `gamma` is
+  // at `max_gamma`); the basis stayed above the threshold.
+  JPROM_CORRECTIONS_NO_PROGRESS = 2,
+  // The progress callback stopped a pass (nonzero return).
+  JPROM_CORRECTIONS_CANCELLED = 3,
+} jprom_correction_end;
+
 // Why a sweep ended (`jprom_sweep_result_end_reason`). The values never change.
 typedef enum {
   // The branch reached `omega_end`.
@@ -588,6 +602,28 @@ jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
                                       void *user_data,
                                       jprom_sweep_result **out,
                                       jprom_basis **basis_out);
+
+// A short name for a `jprom_correction_kind` value ("regenerated", "gamma_increased",
+// "replaced"; "unknown" for any other value), for logs. Static storage: do not free. Since 0.3.
+const char *jprom_correction_kind_name(int kind);
+
+// A short name for a `jprom_correction_end` value ("within_threshold", "max_corrections",
+// "no_progress", "cancelled"; "unknown" for any other value), for logs. Static storage: do
+// not free. Since 0.3.
+const char *jprom_correction_end_name(int end);
+
+// Why the corrections of a self-correcting sweep (`jprom_rom_sweep_adaptive`) ended (`end`),
+// and the judged error of its final pass (`judged_error`: the largest linearised error `e_1`
+// at the checked points, or the largest `e*_1` where the condensed full-order system is too
+// large to check; `+inf` if a point's `e*` was not finite). Above `jprom_jp_options.threshold`
+// the basis stayed poor: the sweep holds the best basis found, not one within the threshold.
+// The sweep's own end (`jprom_sweep_result_end_reason`) says only whether its last pass covered
+// the band. Either pointer may be NULL. `JPROM_INVALID_VALUE` for any other sweep (full order,
+// `jprom_rom_sweep`) and for a self-correcting sweep loaded from a file saved without it
+// (before 0.3); nothing is written then. Since 0.3.
+jprom_status jprom_sweep_result_correction_end(const jprom_sweep_result *sweep,
+                                               jprom_correction_end *end,
+                                               double *judged_error);
 
 // Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 // other sweep, and when the first basis was good enough).

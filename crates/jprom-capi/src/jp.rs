@@ -18,7 +18,7 @@ use jprom::rom;
 use jprom::hbm::PointSolution;
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions, SlippingSamples};
 use jprom::model::ContactCoordinates;
-use jprom::rom::{SweepRecord, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, ReducedModel, RomKind};
+use jprom::rom::{SweepRecord, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionEnd, CorrectionKind, ReducedModel, RomKind};
 use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
@@ -154,7 +154,7 @@ pub unsafe extern "C" fn jprom_rom_sweep(
         let rom = build_rom(m, b, rom_kind(kind)?, disc)?;
         let mut on_point = progress_adapter(callback, user_data);
         let (result, errors) = rom::sweep_with_predicted_error(rom.as_ref(), &sopts, &hopts, &mut on_point)?;
-        *out = jprom_sweep_result::wrap(SweepRecord { sweep: result, predicted_errors: errors, corrections: Vec::new() }, Origin::Reduced);
+        *out = jprom_sweep_result::wrap(SweepRecord::reduced(result, errors), Origin::Reduced);
         Ok(())
     })
 }
@@ -475,9 +475,10 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
             adapter(p)
         };
         let a = adaptive_sweep_with_progress(&m.model, disc, &pred, &sopts, &hopts, &aopts, &mut on_point)?;
-        *out = jprom_sweep_result::wrap(SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections }, Origin::Reduced);
+        let (record, basis) = SweepRecord::with_basis(a);
+        *out = jprom_sweep_result::wrap(record, Origin::Reduced);
         if let Some(b) = basis_out.as_mut() {
-            *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis: a.basis });
+            *b = handle::into_raw(jprom_basis { magic: jprom_basis::MAGIC, basis });
         }
         Ok(())
     })
@@ -499,6 +500,99 @@ pub enum jprom_correction_kind {
     /// are the basis; otherwise a `JPROM_CORRECTION_REGENERATED` (their union with the basis)
     /// follows, and the better of the two is kept. Since 0.3.
     JPROM_CORRECTION_REPLACED = 2,
+}
+
+impl jprom_correction_kind {
+    /// The C kind of a correction and its value (the omega regenerated from, or the new gamma).
+    fn of(kind: &CorrectionKind) -> (Self, f64) {
+        match *kind {
+            CorrectionKind::Regenerated { from_omega } => (Self::JPROM_CORRECTION_REGENERATED, from_omega),
+            CorrectionKind::GammaIncreased { gamma } => (Self::JPROM_CORRECTION_GAMMA_INCREASED, gamma),
+            CorrectionKind::Replaced { from_omega } => (Self::JPROM_CORRECTION_REPLACED, from_omega),
+        }
+    }
+}
+
+/// A short name for a `jprom_correction_kind` value ("regenerated", "gamma_increased",
+/// "replaced"; "unknown" for any other value), for logs. Static storage: do not free. Since 0.3.
+#[no_mangle]
+pub extern "C" fn jprom_correction_kind_name(kind: c_int) -> *const c_char {
+    use jprom_correction_kind::*;
+    let name: &'static [u8] = match kind {
+        k if k == JPROM_CORRECTION_REGENERATED as c_int => b"regenerated\0",
+        k if k == JPROM_CORRECTION_GAMMA_INCREASED as c_int => b"gamma_increased\0",
+        k if k == JPROM_CORRECTION_REPLACED as c_int => b"replaced\0",
+        _ => b"unknown\0",
+    };
+    name.as_ptr() as *const c_char
+}
+
+/// Why the corrections of `jprom_rom_sweep_adaptive` ended, from
+/// `jprom_sweep_result_correction_end`. Since 0.3.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum jprom_correction_end {
+    /// The judged error of the final pass is within `jprom_jp_options.threshold`.
+    JPROM_CORRECTIONS_WITHIN_THRESHOLD = 0,
+    /// `max_corrections` steps were made; the basis stayed above the threshold.
+    JPROM_CORRECTIONS_MAX_CORRECTIONS = 1,
+    /// No correction was left to try (a regeneration did not improve the basis and `gamma` is
+    /// at `max_gamma`); the basis stayed above the threshold.
+    JPROM_CORRECTIONS_NO_PROGRESS = 2,
+    /// The progress callback stopped a pass (nonzero return).
+    JPROM_CORRECTIONS_CANCELLED = 3,
+}
+
+impl From<CorrectionEnd> for jprom_correction_end {
+    fn from(e: CorrectionEnd) -> Self {
+        match e {
+            CorrectionEnd::WithinThreshold => Self::JPROM_CORRECTIONS_WITHIN_THRESHOLD,
+            CorrectionEnd::MaxCorrections => Self::JPROM_CORRECTIONS_MAX_CORRECTIONS,
+            CorrectionEnd::NoProgress => Self::JPROM_CORRECTIONS_NO_PROGRESS,
+            CorrectionEnd::Stopped => Self::JPROM_CORRECTIONS_CANCELLED,
+        }
+    }
+}
+
+/// A short name for a `jprom_correction_end` value ("within_threshold", "max_corrections",
+/// "no_progress", "cancelled"; "unknown" for any other value), for logs. Static storage: do
+/// not free. Since 0.3.
+#[no_mangle]
+pub extern "C" fn jprom_correction_end_name(end: c_int) -> *const c_char {
+    use jprom_correction_end::*;
+    let name: &'static [u8] = match end {
+        e if e == JPROM_CORRECTIONS_WITHIN_THRESHOLD as c_int => b"within_threshold\0",
+        e if e == JPROM_CORRECTIONS_MAX_CORRECTIONS as c_int => b"max_corrections\0",
+        e if e == JPROM_CORRECTIONS_NO_PROGRESS as c_int => b"no_progress\0",
+        e if e == JPROM_CORRECTIONS_CANCELLED as c_int => b"cancelled\0",
+        _ => b"unknown\0",
+    };
+    name.as_ptr() as *const c_char
+}
+
+/// Why the corrections of a self-correcting sweep (`jprom_rom_sweep_adaptive`) ended (`end`),
+/// and the judged error of its final pass (`judged_error`: the largest linearised error `e_1`
+/// at the checked points, or the largest `e*_1` where the condensed full-order system is too
+/// large to check; `+inf` if a point's `e*` was not finite). Above `jprom_jp_options.threshold`
+/// the basis stayed poor: the sweep holds the best basis found, not one within the threshold.
+/// The sweep's own end (`jprom_sweep_result_end_reason`) says only whether its last pass covered
+/// the band. Either pointer may be NULL. `JPROM_INVALID_VALUE` for any other sweep (full order,
+/// `jprom_rom_sweep`) and for a self-correcting sweep loaded from a file saved without it
+/// (before 0.3); nothing is written then. Since 0.3.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_result_correction_end(sweep: *const jprom_sweep_result, end: *mut jprom_correction_end, judged_error: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let s = handle::get(sweep, "sweep")?;
+        let o = s.record.outcome.ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, "this sweep is not a self-correcting sweep's result (or was saved without how its corrections ended)"))?;
+        if let Some(x) = end.as_mut() {
+            *x = o.end.into();
+        }
+        if let Some(x) = judged_error.as_mut() {
+            *x = o.worst_error.unwrap_or(f64::INFINITY);
+        }
+        Ok(())
+    })
 }
 
 /// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
@@ -540,14 +634,10 @@ pub unsafe extern "C" fn jprom_sweep_result_correction(
             check_capacity("sizes", c.sizes.len(), len)?;
         }
         let buf = slice_out(sizes, if len > 0 { c.sizes.len() } else { 0 }, "sizes")?;
-        let (k, v) = match c.kind {
-            CorrectionKind::Regenerated { from_omega } => (jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int, from_omega),
-            CorrectionKind::GammaIncreased { gamma } => (jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int, gamma),
-            CorrectionKind::Replaced { from_omega } => (jprom_correction_kind::JPROM_CORRECTION_REPLACED as c_int, from_omega),
-        };
+        let (k, v) = jprom_correction_kind::of(&c.kind);
         buf.copy_from_slice(&c.sizes[..buf.len()]);
         if let Some(x) = kind.as_mut() {
-            *x = k;
+            *x = k as c_int;
         }
         if let Some(x) = value.as_mut() {
             *x = v;

@@ -992,11 +992,11 @@ fn reduced_level(
     let mut warnings = sweep_warnings(res, p, run.band);
     if adaptive.worst_error > aopts.threshold {
         warnings.push(format!(
-            "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({:?})",
+            "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({})",
             adaptive.worst_error,
             aopts.threshold,
             adaptive.corrections.len(),
-            adaptive.end
+            adaptive.end.name()
         ));
     }
     let mut row = SolverRow {

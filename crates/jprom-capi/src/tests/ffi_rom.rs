@@ -10,7 +10,7 @@ use jprom::rom::error_metric::actual_error;
 use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions, SlippingSamples};
 use jprom::model::{ContactCoordinates, Damping, Excitation, HarmonicForce, Model};
-use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionKind, NlrRom, RomKind};
+use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, CorrectionEnd, CorrectionKind, NlrRom, RomKind};
 use std::ffi::{c_int, c_void};
 use std::ops::ControlFlow;
 
@@ -320,16 +320,25 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
             let mut sizes = [0usize; 2];
             ok(jprom_sweep_result_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 2));
             let want = match c.kind {
-                CorrectionKind::Regenerated { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int), from_omega),
-                CorrectionKind::GammaIncreased { gamma } => ((jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int), gamma),
-                CorrectionKind::Replaced { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REPLACED as c_int), from_omega),
+                CorrectionKind::Regenerated { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REGENERATED as c_int), from_omega, "regenerated"),
+                CorrectionKind::GammaIncreased { gamma } => ((jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED as c_int), gamma, "gamma_increased"),
+                CorrectionKind::Replaced { from_omega } => ((jprom_correction_kind::JPROM_CORRECTION_REPLACED as c_int), from_omega, "replaced"),
             };
             assert_eq!((kind, value, before, after, sizes.to_vec()), (want.0, want.1, c.worst_error_before, c.worst_error_after, c.sizes.clone()));
+            assert_eq!(std::ffi::CStr::from_ptr(jprom_correction_kind_name(kind)).to_str().unwrap(), want.2, "name of kind {kind}");
             // every pointer may be NULL
             ok(jprom_sweep_result_correction(s, i, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0));
             assert_eq!(jprom_sweep_result_correction(s, i, &mut kind, &mut value, &mut before, &mut after, sizes.as_mut_ptr(), 1), jprom_status::JPROM_BAD_SIZE);
         }
         assert_eq!(jprom_sweep_result_correction(s, nc, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), 0), jprom_status::JPROM_INVALID_VALUE);
+        // why the corrections ended and the judged error: here the steps ran out above the threshold
+        assert_eq!(expect.end, CorrectionEnd::MaxCorrections);
+        assert!(expect.worst_error > 1e-12);
+        let (mut end, mut judged) = (jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, -1.0);
+        ok(jprom_sweep_result_correction_end(s, &mut end, &mut judged));
+        assert_eq!((end, judged), (jprom_correction_end::JPROM_CORRECTIONS_MAX_CORRECTIONS, expect.worst_error));
+        assert_eq!(std::ffi::CStr::from_ptr(jprom_correction_end_name(end as c_int)).to_str().unwrap(), "max_corrections");
+        ok(jprom_sweep_result_correction_end(s, std::ptr::null_mut(), std::ptr::null_mut()));
         // saved and loaded, the reduced sweep keeps its e* and its corrections
         let path = std::env::temp_dir().join(format!("jprom-adaptive-{}.json", std::process::id()));
         let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
@@ -348,6 +357,9 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
             ok(jprom_sweep_result_correction(loaded, i, &mut b2.0, &mut b2.1, &mut b2.2, &mut b2.3, std::ptr::null_mut(), 0));
             assert_eq!(a, b2);
         }
+        let (mut end2, mut judged2) = (jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, -1.0);
+        ok(jprom_sweep_result_correction_end(loaded, &mut end2, &mut judged2));
+        assert_eq!((end2, judged2), (end, judged), "how the corrections ended, after a save and a load");
         ok(jprom_sweep_result_free(loaded));
         std::fs::remove_file(&path).ok();
         // the final basis is usable: a plain ROM sweep on it gives the final pass again
@@ -357,6 +369,10 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let mut zero = 99;
         ok(jprom_sweep_result_n_corrections(again, &mut zero));
         assert_eq!(zero, 0);
+        // a plain reduced sweep made no corrections: asking how they ended is refused, nothing written
+        let (mut end3, mut judged3) = (jprom_correction_end::JPROM_CORRECTIONS_NO_PROGRESS, -1.0);
+        assert_eq!(jprom_sweep_result_correction_end(again, &mut end3, &mut judged3), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!((end3, judged3), (jprom_correction_end::JPROM_CORRECTIONS_NO_PROGRESS, -1.0));
         ok(jprom_sweep_result_free(again));
         ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
@@ -370,6 +386,11 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let fr_rows = c_rows(fr);
         assert_eq!(fr_rows.len(), fr_expect.sweep.points.len());
         assert_eq!(fr_rows.last().unwrap().2, fr_expect.predicted_errors.last().unwrap()[1]);
+        let (mut end4, mut judged4) = (jprom_correction_end::JPROM_CORRECTIONS_CANCELLED, -1.0);
+        ok(jprom_sweep_result_correction_end(fr, &mut end4, &mut judged4));
+        assert_eq!(end4, fr_expect.end.into());
+        assert_eq!(judged4, fr_expect.worst_error);
+        assert!(judged4 <= 0.05 || end4 != jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, "within the threshold means below it");
         ok(jprom_sweep_result_free(fr));
 
         // a callback that stops: OK with end reason CANCELLED, the points so far and the basis are handed out
@@ -386,6 +407,9 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         assert_eq!(n, 3);
         ok(jprom_sweep_result_n_corrections(s, &mut n));
         assert_eq!(n, 0);
+        let mut end5 = jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD;
+        ok(jprom_sweep_result_correction_end(s, &mut end5, std::ptr::null_mut()));
+        assert_eq!(end5, jprom_correction_end::JPROM_CORRECTIONS_CANCELLED);
         assert!(!b.is_null());
         ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
@@ -575,5 +599,29 @@ fn deprecated_sweep_names_forward_to_the_new_ones() {
         ok(jprom_sweep_free(s));
         ok(jprom_basis_free(b));
         ok(jprom_model_free(m));
+    }
+}
+
+#[test]
+fn correction_end_names_cover_every_end() {
+    let name = |k: c_int| unsafe { std::ffi::CStr::from_ptr(jprom_correction_end_name(k)) }.to_str().unwrap().to_owned();
+    let ends = [CorrectionEnd::WithinThreshold, CorrectionEnd::MaxCorrections, CorrectionEnd::NoProgress, CorrectionEnd::Stopped];
+    let names: Vec<String> = ends.iter().map(|&e| name(jprom_correction_end::from(e) as c_int)).collect();
+    assert_eq!(names, ["within_threshold", "max_corrections", "no_progress", "cancelled"]);
+    for k in [-1, 4, c_int::MAX] {
+        assert_eq!(name(k), "unknown", "end {k}");
+    }
+}
+
+#[test]
+fn correction_kind_names_cover_every_kind_and_refuse_none() {
+    let name = |k: c_int| unsafe { std::ffi::CStr::from_ptr(jprom_correction_kind_name(k)) }.to_str().unwrap().to_owned();
+    use jprom_correction_kind::*;
+    let kinds = [JPROM_CORRECTION_REGENERATED, JPROM_CORRECTION_GAMMA_INCREASED, JPROM_CORRECTION_REPLACED];
+    let names: Vec<String> = kinds.iter().map(|&k| name(k as c_int)).collect();
+    assert_eq!(names, ["regenerated", "gamma_increased", "replaced"]);
+    // any other value (a newer library's kind read by an older caller, or garbage) has a name too
+    for k in [-1, 3, 99, c_int::MIN, c_int::MAX] {
+        assert_eq!(name(k), "unknown", "kind {k}");
     }
 }

@@ -429,7 +429,7 @@ static void one_call(void) {
         len = chance(80) ? below(64) : rsize();
         size_t out, out2;
         int iout;
-        switch (below(14)) {
+        switch (below(15)) {
         case 0: seen("jprom_sweep_result_n_points", jprom_sweep_result_n_points(w, chance(95) ? &out : NULL)); break;
         case 1: seen("jprom_sweep_result_reached_end", jprom_sweep_result_reached_end(w, chance(95) ? &iout : NULL)); break;
         case 2: { char text[64]; size_t l = chance(80) ? below(64) : 0;
@@ -451,6 +451,11 @@ static void one_call(void) {
         case 12: seen("jprom_sweep_result_free", jprom_sweep_result_free(w));
                  for (size_t i = 0; i < POOL; ++i) if (sweeps[i] == w) { sweeps[i] = NULL; bury(w); }
                  break;
+        case 13: { jprom_correction_end e; double judged;
+                   seen("jprom_sweep_result_correction_end", jprom_sweep_result_correction_end(w, chance(50) ? &e : NULL, chance(50) ? &judged : NULL));
+                   (void)jprom_correction_end_name((int)below(8) - 2);
+                   (void)jprom_correction_kind_name((int)below(8) - 2);
+                   break; }
         default: seen("jprom_live_handle_count", jprom_live_handle_count(chance(95) ? &out2 : NULL));
         }
     } else if (k < 600) { /* solution accessors */

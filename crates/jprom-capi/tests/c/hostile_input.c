@@ -219,6 +219,13 @@ int main(int argc, char **argv) {
         basis = NULL;
     }
     expect(jprom_rom_sweep_adaptive(linear, JPROM_ROM_FR, &opts, &band, &jp, NULL, NULL, &sweep, &basis), JPROM_OK, "adaptive FR sweep without contacts", NULL);
+    {
+        jprom_correction_end end = JPROM_CORRECTIONS_CANCELLED;
+        double judged = -1.0;
+        expect(jprom_sweep_result_correction_end(sweep, &end, &judged), JPROM_OK, "how the corrections of a linear model's sweep ended", NULL);
+        check(end == JPROM_CORRECTIONS_WITHIN_THRESHOLD && judged >= 0.0 && judged <= jp.threshold, "a linear model's basis is within the threshold");
+        expect(jprom_sweep_result_correction_end(NULL, &end, &judged), JPROM_NULL_ARGUMENT, "correction_end of a NULL sweep", "sweep");
+    }
     jprom_sweep_result_free(sweep);
     jprom_basis_free(basis);
     sweep = NULL;
@@ -229,6 +236,12 @@ int main(int argc, char **argv) {
     int nested = 0;
     expect(jprom_sweep(model, &opts, &band, nested_failure, &nested, &sweep), JPROM_OK, "sweep whose callback makes a failing call", NULL);
     check(nested > 0, "the nested calls failed as they should");
+    {
+        jprom_correction_end end = JPROM_CORRECTIONS_CANCELLED;
+        double judged = -1.0;
+        expect(jprom_sweep_result_correction_end(sweep, &end, &judged), JPROM_INVALID_VALUE, "correction_end of a full-order sweep", "not a self-correcting sweep");
+        check(end == JPROM_CORRECTIONS_CANCELLED && judged == -1.0, "a refused correction_end writes nothing");
+    }
     size_t live_before = 0, live_after = 0;
     jprom_live_handle_count(&live_before);
     expect(jprom_sweep_result_point(sweep, 0, NULL), JPROM_NULL_ARGUMENT, "sweep_point into NULL", "'out'");

@@ -19,10 +19,10 @@ program binding
   character(len=512) :: msg
   character(len=400) :: dir
   integer :: d, i, k, s, handles0, handles, nd, nc, no, hh, no2, nc2, npts, npts2, it, ns, kind
-  integer :: sizes(0:3), sizes2(0:3), reason
+  integer :: sizes(0:3), sizes2(0:3), reason, cend
   integer, allocatable :: states(:), colptr(:), rowind(:)
   real(c_double), allocatable :: mvals(:), kvals(:)
-  real(c_double) :: a1(2), a2(2), omega, omega2, coeffs(2, 7), amp, res, energy(1), e(0:3), estar, alpha, value, wb, wa
+  real(c_double) :: a1(2), a2(2), omega, omega2, coeffs(2, 7), amp, res, energy(1), e(0:3), estar, alpha, value, wb, wa, judged
   integer(c_size_t) :: budget
   integer(c_int64_t) :: node_rows(6, 3)
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
@@ -202,6 +202,15 @@ program binding
     call check(kind == JPROM_CORRECTION_REPLACED .or. kind == JPROM_CORRECTION_REGENERATED .or. &
                kind == JPROM_CORRECTION_GAMMA_INCREASED, 'correction kind')
   end if
+  call check(jp_correction_kind_name(JPROM_CORRECTION_REPLACED) == 'replaced' .and. &
+             jp_correction_kind_name(JPROM_CORRECTION_REGENERATED) == 'regenerated' .and. &
+             jp_correction_kind_name(JPROM_CORRECTION_GAMMA_INCREASED) == 'gamma_increased' .and. &
+             jp_correction_kind_name(-1) == 'unknown', 'correction kind names')
+  call ok(jp_sweep_correction_end(asweep, cend, judged, msg), 'jp_sweep_correction_end')
+  call check((cend == JPROM_CORRECTIONS_WITHIN_THRESHOLD .and. judged <= jp_opts%threshold) .or. &
+             (cend == JPROM_CORRECTIONS_MAX_CORRECTIONS .and. judged > jp_opts%threshold) .or. &
+             (cend == JPROM_CORRECTIONS_NO_PROGRESS .and. judged > jp_opts%threshold), 'correction end and judged error')
+  call check(jp_correction_end_name(cend) /= 'unknown' .and. jp_correction_end_name(99) == 'unknown', 'correction end names')
   call check(jp_sweep_correction(asweep, k + 1, kind, value, wb, wa, sizes, msg) == JPROM_INVALID_VALUE, &
              'correction n + 1 is refused')
   s = jp_sweep_free(asweep)

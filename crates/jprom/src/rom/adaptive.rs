@@ -107,6 +107,18 @@ pub enum CorrectionEnd {
     Stopped,
 }
 
+impl CorrectionEnd {
+    /// A short name: "within_threshold", "max_corrections", "no_progress", "stopped".
+    pub fn name(self) -> &'static str {
+        match self {
+            CorrectionEnd::WithinThreshold => "within_threshold",
+            CorrectionEnd::MaxCorrections => "max_corrections",
+            CorrectionEnd::NoProgress => "no_progress",
+            CorrectionEnd::Stopped => "stopped",
+        }
+    }
+}
+
 /// What a correction did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum CorrectionKind {

@@ -14,7 +14,7 @@ pub mod record;
 pub use adaptive::{adaptive_sweep, adaptive_sweep_from, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck};
 pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
-pub use record::SweepRecord;
+pub use record::{CorrectionOutcome, SweepRecord};
 
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};

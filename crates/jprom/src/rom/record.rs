@@ -3,9 +3,10 @@
 //! API's sweep handle holds and what a saved reduced sweep contains (a jprom `reduced_sweep`
 //! document), so `e*` and the corrections survive a save and a load.
 
-use super::adaptive::{AdaptiveSweep, Correction};
+use super::adaptive::{AdaptiveSweep, Correction, CorrectionEnd};
 use crate::error::Result;
 use crate::hbm::SweepResult;
+use crate::jp::JpBasis;
 use crate::io::documents::{bad, Check, Document};
 use serde::{Deserialize, Serialize};
 
@@ -20,12 +21,32 @@ pub struct SweepRecord {
     /// Basis corrections of a self-correcting sweep, in order.
     #[serde(default)]
     pub corrections: Vec<Correction>,
+    /// How the corrections of a self-correcting sweep ended (`None` for any other sweep, and in
+    /// a reduced sweep saved before jprom kept it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outcome: Option<CorrectionOutcome>,
+}
+
+/// How a self-correcting sweep's corrections ended: why, and the judged error of the final
+/// pass ([`AdaptiveSweep::worst_error`]), which a caller compares with the threshold: above it,
+/// the basis stayed poor.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionOutcome {
+    pub end: CorrectionEnd,
+    /// The judged error of the final pass; `None` if it was not finite (a point whose `e*` is
+    /// not, which counts as the worst).
+    pub worst_error: Option<f64>,
 }
 
 impl SweepRecord {
     /// A full-order sweep: no `e*`, no corrections.
     pub fn full_order(sweep: SweepResult) -> Self {
-        SweepRecord { sweep, predicted_errors: Vec::new(), corrections: Vec::new() }
+        SweepRecord { sweep, predicted_errors: Vec::new(), corrections: Vec::new(), outcome: None }
+    }
+
+    /// A reduced sweep with its predicted errors `e*_h` and no corrections.
+    pub fn reduced(sweep: SweepResult, predicted_errors: Vec<Vec<f64>>) -> Self {
+        SweepRecord { sweep, predicted_errors, corrections: Vec::new(), outcome: None }
     }
 
     /// Whether the record carries reduced-model data (`e*` or corrections).
@@ -34,9 +55,17 @@ impl SweepRecord {
     }
 }
 
+impl SweepRecord {
+    /// The record of a self-correcting sweep, and its final basis.
+    pub fn with_basis(a: AdaptiveSweep) -> (Self, JpBasis) {
+        let outcome = CorrectionOutcome { end: a.end, worst_error: a.worst_error.is_finite().then_some(a.worst_error) };
+        (SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections, outcome: Some(outcome) }, a.basis)
+    }
+}
+
 impl From<AdaptiveSweep> for SweepRecord {
     fn from(a: AdaptiveSweep) -> Self {
-        SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections }
+        Self::with_basis(a).0
     }
 }
 
@@ -68,6 +97,11 @@ impl Document for SweepRecord {
             }
             if c.worst_error_after.is_nan() || c.worst_error_before.is_nan() {
                 return Ok(bad(format!("corrections[{i}]"), "a worst error is NaN"));
+            }
+        }
+        if let Some(CorrectionOutcome { worst_error: Some(w), .. }) = self.outcome {
+            if !(w >= 0.0) {
+                return Ok(bad("outcome.worst_error", format!("must be >= 0, got {w}")));
             }
         }
         Ok(Ok(()))
