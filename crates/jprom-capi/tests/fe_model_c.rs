@@ -12,7 +12,7 @@ use jprom::jp::PredictionOptions;
 use jprom::level::stuck_limit;
 use jprom::linalg::eigen::dense_generalized_eigenvalues;
 use jprom::model::{ContactCoordinates, Damping};
-use jprom::rom::{adaptive_sweep, AdaptiveOptions, RomKind};
+use jprom::rom::{adaptive_sweep_with_progress, AdaptiveOptions, CorrectionEnd, CorrectionKind, RomKind};
 use jprom_testkit::native::*;
 
 #[test]
@@ -50,8 +50,25 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
     let scale = stuck_limit(&coords, &z0, w_stuck).unwrap().scale_at(0.1).unwrap();
     let mut model = fe.reduce(&spec, Damping { mass_coeff: 0.0, stiffness_coeff: beta }).unwrap();
     model.excitation.dynamic_scale = scale;
-    let rust = adaptive_sweep(&model, 1, &PredictionOptions::new(band), &SweepOptions::band(band.0, band.1), &HbmOptions::default(), &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }).unwrap();
+    let mut swept = std::collections::BTreeSet::new();
+    let rust = adaptive_sweep_with_progress(&model, 1, &PredictionOptions::new(band), &SweepOptions::band(band.0, band.1), &HbmOptions::default(), &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }, &mut |pass, _| {
+        swept.insert(pass);
+        std::ops::ControlFlow::Continue(())
+    })
+    .unwrap();
     println!("band {:.1}-{:.1} Hz, kt {kt:.3e}, {} points, end {:?}, {} corrections", band.0 / 6.283185307179586, band.1 / 6.283185307179586, rust.sweep.points.len(), rust.sweep.end, rust.corrections.len());
+    for (i, c) in rust.corrections.iter().enumerate() {
+        let was_swept = swept.contains(&(i + 1));
+        println!("correction {}: {:?}, {:.4} -> {:.4}, sizes {:?}, swept {was_swept}", i + 1, c.kind, c.worst_error_before, c.worst_error_after, c.sizes);
+        // a correction is swept unless its modes add nothing to the basis: then it is reported
+        // with the error unchanged (the modes alone are always swept)
+        if !was_swept {
+            assert!(!matches!(c.kind, CorrectionKind::Replaced { .. }), "the modes alone are always swept: {c:?}");
+            assert_eq!(c.worst_error_after, c.worst_error_before, "a correction not swept leaves the error: {c:?}");
+        }
+    }
+    // on this model the larger-gamma predictions add nothing, and those passes are not repeated
+    assert!(swept.len() < rust.corrections.len() + 1, "passes swept {swept:?} of {}", rust.corrections.len() + 1);
     assert_eq!(rust.sweep.end, SweepEnd::ReachedEnd, "{:?}", rust.sweep.failure);
 
     let exe = compile_c(&[&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/fe_calculix.c")], "fe_calculix", &[]);
@@ -60,7 +77,22 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "C: {text}{}", String::from_utf8_lossy(&out.stderr));
     println!("{}", text.lines().next().unwrap());
+    // why the corrections ended and the judged error, C and Fortran against Rust
+    let end_code = match rust.end {
+        CorrectionEnd::WithinThreshold => 0,
+        CorrectionEnd::MaxCorrections => 1,
+        CorrectionEnd::NoProgress => 2,
+        CorrectionEnd::Stopped => 3,
+    };
+    let compare_end = |lang: &str, text: &str| {
+        let line = text.lines().find_map(|l| l.strip_prefix("# corrections end ")).unwrap_or_else(|| panic!("{lang}: no correction end in {text}"));
+        let v: Vec<&str> = line.split_whitespace().collect();
+        assert_eq!(v[0].parse::<i32>().unwrap(), end_code, "{lang}: correction end ({:?})", rust.end);
+        let judged: f64 = v[1].parse().unwrap();
+        assert!((judged - rust.worst_error).abs() <= 1e-9 * rust.worst_error.abs(), "{lang}: judged error {judged} vs {}", rust.worst_error);
+    };
     let compare = |lang: &str, text: &str| {
+        compare_end(lang, text);
         let rows: Vec<Vec<f64>> = text.lines().filter(|l| !l.starts_with('#')).map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
         assert_eq!(rows.len(), rust.sweep.points.len(), "{lang}: points");
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-300) || (a - b).abs() < 1e-15;

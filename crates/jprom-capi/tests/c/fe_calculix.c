@@ -65,6 +65,10 @@ int main(int argc, char **argv) {
     TRY(jprom_sweep_result_end_reason(sweep, &reason));
     printf("# FE %zu DoFs, %zu tip contacts, reduced to %zu DoFs; %zu points, %zu corrections, end %s\n", n_dof, n_tip, n_red, n, n_corr,
            jprom_sweep_end_name((int)reason));
+    jprom_correction_end cend;
+    double judged;
+    TRY(jprom_sweep_result_correction_end(sweep, &cend, &judged));
+    printf("# corrections end %d %.17e\n", (int)cend, judged);
     for (size_t i = 0; i < n; ++i) {
         double w, x1, e1;
         TRY(jprom_sweep_result_point_omega(sweep, i, &w));

@@ -6,8 +6,8 @@ program fe_calculix
   use jprom
   implicit none
   character(len=1024) :: deck, arg, msg
-  real(c_double) :: v(8), frame(3, 3), omega, amps(1), e1
-  integer :: i, cb_modes, n_tip, n_out, n_load, n, ncorr, reason, n_fe, n_full(3)
+  real(c_double) :: v(8), frame(3, 3), omega, amps(1), e1, judged
+  integer :: i, cb_modes, n_tip, n_out, n_load, n, ncorr, reason, n_fe, n_full(3), cend
   integer(c_int64_t) :: tip(256), out_nodes(16), load(1)
   type(c_ptr) :: fe, model, sweep, basis, full
   type(jprom_hbm_options) :: opts
@@ -59,6 +59,8 @@ program fe_calculix
   i = jp_sweep_n_corrections(sweep, ncorr)
   i = jp_sweep_end(sweep, reason, why)
   write (*, '(a, i0, a, i0, a, i0)') '# Fortran: ', n, ' points, ', ncorr, ' corrections, end ', reason
+  call check(jp_sweep_correction_end(sweep, cend, judged, msg), 'correction end')
+  write (*, '(a, i0, 1x, es26.17e3)') '# corrections end ', cend, judged
   do i = 1, n
     call check(jp_sweep_point(sweep, i, omega, amps), 'point')
     call check(jp_sweep_point_error(sweep, i, 1, e1), 'e*')

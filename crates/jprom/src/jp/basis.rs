@@ -209,6 +209,20 @@ impl JpBasis {
         Ok(JpBasis { band, ..Self::from_raw(&raw, gamma, self.n_patterns + other.n_patterns, self.n_w)? })
     }
 
+    /// Whether `other` spans the same subspace as this basis in every harmonic, to `tol`: the
+    /// same sizes, and each column of `other` within `tol` of this basis' span,
+    /// `max |Φ'_h - Φ_h Φ_h^T Φ'_h| <= tol` (both orthonormal). A reduced model on either gives
+    /// the same reduced solutions.
+    pub fn spans_the_same(&self, other: &JpBasis, tol: f64) -> bool {
+        self.n_dof == other.n_dof
+            && self.sizes == other.sizes
+            && self.phi.iter().zip(&other.phi).all(|(a, b)| {
+                let coefficients = a.transpose() * b;
+                let residual = b - a * &coefficients;
+                (0..residual.ncols()).all(|j| (0..residual.nrows()).all(|i| residual[(i, j)].abs() <= tol))
+            })
+    }
+
     /// The basis with its analysis band set (see [`JpBasis::band`]).
     pub fn with_band(self, band: (f64, f64)) -> Self {
         JpBasis { band: Some(band), ..self }
@@ -322,4 +336,38 @@ fn check_basis(b: &JpBasis) -> Check {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A one-harmonic basis whose columns are `cols` (orthonormal) in 8 DoFs.
+    fn basis(cols: &[[f64; 8]]) -> JpBasis {
+        let phi = Mat::from_fn(8, cols.len(), |i, j| cols[j][i]);
+        JpBasis { phi: vec![phi], sizes: vec![cols.len()], gamma: 1e3, n_patterns: 1, n_dof: 8, n_w: 8, singular_values: vec![vec![1.0; cols.len()]], band: None }
+    }
+
+    fn unit(i: usize, c: f64, k: usize, s: f64) -> [f64; 8] {
+        let mut v = [0.0; 8];
+        v[i] += c;
+        v[k] += s;
+        v
+    }
+
+    #[test]
+    fn a_rotation_within_the_span_is_the_same_span_and_a_tilt_out_of_it_is_not() {
+        let a = basis(&[unit(0, 1.0, 0, 0.0), unit(1, 1.0, 1, 0.0), unit(2, 1.0, 2, 0.0)]);
+        let (c, s) = (0.6f64, 0.8f64);
+        let rotated = basis(&[unit(0, c, 1, s), unit(0, -s, 1, c), unit(2, 1.0, 2, 0.0)]);
+        assert!(a.spans_the_same(&rotated, 1e-12) && rotated.spans_the_same(&a, 1e-12));
+        // a column tilted by 1e-6 rad out of the span is within 1e-5 but not within 1e-8
+        let t = 1e-6f64;
+        let tilted = basis(&[unit(0, t.cos(), 5, t.sin()), unit(1, 1.0, 1, 0.0), unit(2, 1.0, 2, 0.0)]);
+        assert!(!a.spans_the_same(&tilted, 1e-8));
+        assert!(a.spans_the_same(&tilted, 1e-5));
+        // a smaller basis inside the span is not the same span
+        let smaller = basis(&[unit(0, 1.0, 0, 0.0), unit(1, 1.0, 1, 0.0)]);
+        assert!(!a.spans_the_same(&smaller, 1e-12) && !smaller.spans_the_same(&a, 1e-12));
+    }
 }

@@ -227,6 +227,11 @@ fn run_pass(
     Ok(Pass { sweep: sw, errors, checks, worst: worst.max(0.0), worst_at })
 }
 
+/// Largest entry of the part of a correction's basis outside the current basis' span below
+/// which the two are taken as one basis ([`JpBasis::spans_the_same`]; both orthonormal, so
+/// this bounds the sine of the largest principal angle per column).
+const SAME_SPAN_TOL: f64 = 1e-8;
+
 fn check_options(aopts: &AdaptiveOptions) -> Result<()> {
     if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
         return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
@@ -397,17 +402,27 @@ pub fn adaptive_sweep_from(
             }
         }
         let b = basis.union(&fresh, popts.gamma)?;
-        let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
-        let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point)?;
-        corrections.push(Correction { kind, worst_error_before: before, worst_error_after: new_pass.worst, sizes: b.sizes.clone() });
+        // Fresh modes already in the basis' span leave the reduced model as it is: its pass
+        // would repeat the current one, so it is not swept again (on the CalculiX block of
+        // jprom-capi's tests/fe_model_c.rs, five of seven corrections). The correction is
+        // reported with the error unchanged.
+        let union = if b.spans_the_same(&basis, SAME_SPAN_TOL) {
+            None
+        } else {
+            let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
+            let new_pass = run_pass(new_rom.as_ref(), check_with, sopts, hopts, (corrections.len() + 1, aopts.response_output), on_point)?;
+            Some((b, new_rom, new_pass))
+        };
+        let (union_sizes, union_worst) = union.as_ref().map_or((basis.sizes.clone(), before), |(b, _, p)| (b.sizes.clone(), p.worst));
+        corrections.push(Correction { kind, worst_error_before: before, worst_error_after: union_worst, sizes: union_sizes });
         // A correction that made the worst e*_1 larger is reported but not kept (the Galerkin
         // error need not fall as the basis grows: on the blade at alpha_ST / 3000 a third
         // regeneration took it from 0.077 to 0.12). A pass stopped by the caller is kept. Of the
         // regenerated modes alone and their union, the one with the smaller error is kept.
-        let stopped = new_pass.sweep.end == SweepEnd::StoppedByCaller;
-        match alone {
-            Some((m, p)) if !stopped && p.worst <= new_pass.worst => (basis, prediction, rom, pass) = (fresh, r, m, p),
-            _ if new_pass.worst < before || stopped => (basis, prediction, rom, pass) = (b, r, new_rom, new_pass),
+        let stopped = union.as_ref().is_some_and(|(_, _, p)| p.sweep.end == SweepEnd::StoppedByCaller);
+        match (alone, union) {
+            (Some((m, p)), _) if !stopped && p.worst <= union_worst => (basis, prediction, rom, pass) = (fresh, r, m, p),
+            (_, Some((b, new_rom, new_pass))) if new_pass.worst < before || stopped => (basis, prediction, rom, pass) = (b, r, new_rom, new_pass),
             _ => {}
         }
         let after = pass.worst;
