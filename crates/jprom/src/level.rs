@@ -88,7 +88,8 @@ impl StuckLimit {
 ///
 /// # Errors
 /// [`JpError::InvalidValue`] if no contact ever reaches a limit (no finite scale: no contact,
-/// or a forcing that never moves them).
+/// or a forcing that never moves them), or if the model has no damping (the stuck response at
+/// the stuck resonance is unbounded).
 pub fn stuck_limit(coords: &ContactCoordinates, static_z: &[f64], omega_stuck: f64) -> Result<StuckLimit> {
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let (fc, fs) = &coords.harmonic_force[0];
@@ -114,7 +115,8 @@ pub fn stuck_limit(coords: &ContactCoordinates, static_z: &[f64], omega_stuck: f
 /// Jenkins elements count with `|T0| + s |T1| <= mu * normal_load`.
 ///
 /// # Errors
-/// [`JpError::InvalidValue`] if no contact ever reaches a limit (no finite scale).
+/// [`JpError::InvalidValue`] if no contact ever reaches a limit (no finite scale), or if the
+/// model has no damping at `omega_st` (the stuck response there is unbounded).
 pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<f64> {
     match limit_scale(coords, static_z, omega_st)? {
         (s, _) if s > 0.0 => Ok(s),
@@ -125,6 +127,15 @@ pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st
 /// [`stuck_limit_scale`], or 0 and the first contact at its limit in the static state.
 fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<(f64, String)> {
     let n = coords.n_dof;
+    // Undamped, the linear stuck response at the stuck resonance is unbounded: the solve below
+    // would return round-off-sized scales (1e-14 on the CalculiX block), silently.
+    let undamped = (0..n).all(|j| (0..n).all(|i| coords.dissipation(omega_st, i, j) == 0.0));
+    if undamped {
+        return Err(JpError::invalid(
+            "stuck limit",
+            format!("the model has no damping: its linear stuck response at the stuck resonance ({omega_st:.6e} rad/s) is unbounded, so alpha_ST is not defined; set viscous, modal or hysteretic damping first"),
+        ));
+    }
     let kst = coords.stuck_stiffness();
     let w2 = omega_st * omega_st;
     let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], coords.dissipation(omega_st, i, j)));

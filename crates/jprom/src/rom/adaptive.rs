@@ -404,8 +404,8 @@ pub fn adaptive_sweep_from(
         let b = basis.union(&fresh, popts.gamma)?;
         // Fresh modes already in the basis' span leave the reduced model as it is: its pass
         // would repeat the current one, so it is not swept again (on the CalculiX block of
-        // jprom-capi's tests/fe_model_c.rs, five of seven corrections). The correction is
-        // reported with the error unchanged.
+        // examples-c/fe_example.c, one of seven corrections). The correction is reported with
+        // the error unchanged.
         let union = if b.spans_the_same(&basis, SAME_SPAN_TOL) {
             None
         } else {
