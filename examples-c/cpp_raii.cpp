@@ -79,6 +79,13 @@ class Sweep {
         check(jprom_sweep_result_n_corrections(p_.get(), &n), "jprom_sweep_result_n_corrections");
         return n;
     }
+    // Why the corrections of a self-correcting sweep ended, and the judged error of its last pass.
+    std::pair<jprom_correction_end, double> correction_end() const {
+        jprom_correction_end end = JPROM_CORRECTIONS_WITHIN_THRESHOLD;
+        double judged = 0;
+        check(jprom_sweep_result_correction_end(p_.get(), &end, &judged), "jprom_sweep_result_correction_end");
+        return {end, judged};
+    }
 
   private:
     std::unique_ptr<jprom_sweep_result, SweepFree> p_;
@@ -191,6 +198,9 @@ int main() {
         const jp::Sweep &reduced = rom.first;
         std::printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", reduced.size(),
                     reduced.corrections(), rom.second.sizes()[1]);
+        const auto ended = reduced.correction_end();
+        std::printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name(ended.first), ended.second,
+                    jp.threshold);
         std::printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
         for (size_t i = 0; i < reduced.size(); ++i)
             std::printf("%zu %.10e %.10e %.10e %.10e\n", i, reduced.omega(i), reduced.amplitude(i, 1, 0), reduced.amplitude(i, 1, 1),

@@ -127,6 +127,13 @@ int main(void) {
     jprom_sweep_result_n_corrections(rom, &n_corrections);
     jprom_basis_sizes(final_basis, sizes, 8, &harmonics);
     printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", n_points, n_corrections, sizes[1]);
+    /* why the corrections ended: above the threshold the basis stayed poor (the sweep's own end
+     * reason only says whether the last pass covered the band) */
+    jprom_correction_end corrections_end = JPROM_CORRECTIONS_WITHIN_THRESHOLD;
+    double judged = 0.0;
+    if (check(jprom_sweep_result_correction_end(rom, &corrections_end, &judged), "jprom_sweep_result_correction_end")) bad = 1;
+    printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name((int)corrections_end), judged,
+           jp_opts.threshold);
     printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
     for (size_t i = 0; i < n_points; ++i) {
         double omega, a0, a1, e1;

@@ -11,8 +11,8 @@ program sweep_example
   type(jprom_sweep_options) :: sweep_opts
   type(jprom_jp_options) :: jp_opts
   character(len=512) :: msg
-  integer :: d, i, npts, s, sizes(0:7), hh, ncorr
-  real(c_double) :: e1
+  integer :: d, i, npts, s, sizes(0:7), hh, ncorr, why
+  real(c_double) :: e1, judged
 
   mass = 0; stiffness = 0
   do d = 1, 3
@@ -64,6 +64,10 @@ program sweep_example
   s = jp_basis_sizes(basis, sizes, hh)
   write (*, '(a,i0,a,i0,a,i0)') '# JP: self-correcting NLR sweep, ', npts, ' points, ', ncorr, ' corrections, final n_1 = ', &
     sizes(1)
+  ! why the corrections ended: above the threshold the basis stayed poor
+  if (jp_sweep_correction_end(sweep, why, judged, msg) /= JPROM_OK) call fail('jp_sweep_correction_end')
+  write (*, '(a,a,a,g0.3,a,g0.3,a)') '# JP: corrections ended: ', jp_correction_end_name(why), ', judged error ', judged, &
+    ' (threshold ', jp_opts%threshold, ')'
   write (*, '(a)') '# index omega_rad_s X1_node0_x X1_node1_x e_star_1'
   do i = 1, npts
     if (jp_sweep_point(sweep, i, omega, amps) /= JPROM_OK) call fail('jp_sweep_point')
