@@ -77,9 +77,13 @@ pub struct SolverRow {
     /// on the band's edge, a level at which every contact sticks, errors taken against an
     /// incomplete full-order sweep.
     pub warnings: Vec<String>,
-    /// The largest error the self-correcting sweep judged its basis by, `max(e*_1, e_lin_1 at
-    /// its checks)` over the final pass (ROMs only).
+    /// The error the self-correcting sweep judged its final basis by: the largest `e_lin_1` at
+    /// its checks, or the largest `e*_1` without checks (ROMs only; see `rom::adaptive`).
     pub worst_error: Option<f64>,
+    /// Why its corrections ended (`within_threshold`, `max_corrections`, `no_progress`,
+    /// `stopped`; ROMs only): the two in the middle leave the basis above the threshold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corrections_end: Option<String>,
     /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its
     /// share of the shared basis) (ROMs only, when the full order ran).
     #[serde(default)]
@@ -523,6 +527,7 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         complete: false,
         warnings: vec![format!("failed: {why}")],
         worst_error: None,
+        corrections_end: None,
         speed_up: None,
         case: String::new(),
     }
@@ -903,6 +908,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         complete: res.reached_end(),
         warnings,
         worst_error: None,
+        corrections_end: None,
         speed_up: None,
         case: String::new(),
     });
@@ -1020,6 +1026,7 @@ fn reduced_level(
         complete: res.reached_end(),
         warnings,
         worst_error: Some(adaptive.worst_error),
+        corrections_end: Some(adaptive.end.name().into()),
         speed_up: None,
         case: String::new(),
     };

@@ -51,11 +51,15 @@ fn demo_covers_stick_to_gross_slip_with_one_basis_corrected_where_poor() {
         assert!(e < 0.01, "{} at {:e}: |X1| error {e}", r.solver, r.level);
         assert!(r.speed_up.is_some_and(|x| x > 0.0), "{r:?}");
         assert!(r.sweep_seconds >= basis.seconds / 3.0, "a ROM row counts its share of the shared basis");
+        // why the corrections ended agrees with the judged error and the threshold
+        let within = r.worst_error.unwrap() <= study.basis.error_threshold;
+        assert_eq!(r.corrections_end.as_deref() == Some("within_threshold"), within, "{r:?}");
         if r.level == levels[2] {
             assert!(r.corrections >= 1, "the stuck-mode basis is corrected at gross slip");
             assert!(r.worst_error.unwrap() <= study.basis.error_threshold, "corrected within the threshold: {:?}", r.worst_error);
         }
     }
+    assert!(s.rows.iter().filter(|r| r.solver.starts_with("FO")).all(|r| r.corrections_end.is_none()), "a full-order row has no corrections");
     assert_eq!(s.totals.iter().filter(|t| t.speed_up.is_some()).count(), 2, "FR and NLR totals against the full order");
     assert!(summary_table(&s).contains("speed-up"));
 }
