@@ -18,6 +18,13 @@ macro_rules! ffi_guard {
 }
 pub(crate) use ffi_guard;
 
+/// The name for logs of the value `value` of a C enum whose values are `0..names.len()`, from
+/// `names` in value order; "unknown" for any other value (a newer library's value read by an
+/// older caller, or garbage). Static storage: the caller must not free it.
+pub(crate) fn enum_name(value: std::ffi::c_int, names: &[&'static CStr]) -> *const c_char {
+    usize::try_from(value).ok().and_then(|i| names.get(i)).copied().unwrap_or(c"unknown").as_ptr()
+}
+
 /// Largest element count accepted for one array (keeps `len * size_of` far from overflow).
 const MAX_LEN: usize = (isize::MAX as usize) / 16;
 

@@ -517,14 +517,7 @@ impl jprom_correction_kind {
 /// "replaced"; "unknown" for any other value), for logs. Static storage: do not free. Since 0.3.
 #[no_mangle]
 pub extern "C" fn jprom_correction_kind_name(kind: c_int) -> *const c_char {
-    use jprom_correction_kind::*;
-    let name: &'static [u8] = match kind {
-        k if k == JPROM_CORRECTION_REGENERATED as c_int => b"regenerated\0",
-        k if k == JPROM_CORRECTION_GAMMA_INCREASED as c_int => b"gamma_increased\0",
-        k if k == JPROM_CORRECTION_REPLACED as c_int => b"replaced\0",
-        _ => b"unknown\0",
-    };
-    name.as_ptr() as *const c_char
+    crate::guard::enum_name(kind, &[c"regenerated", c"gamma_increased", c"replaced"])
 }
 
 /// Why the corrections of `jprom_rom_sweep_adaptive` ended, from
@@ -560,15 +553,8 @@ impl From<CorrectionEnd> for jprom_correction_end {
 /// not free. Since 0.3.
 #[no_mangle]
 pub extern "C" fn jprom_correction_end_name(end: c_int) -> *const c_char {
-    use jprom_correction_end::*;
-    let name: &'static [u8] = match end {
-        e if e == JPROM_CORRECTIONS_WITHIN_THRESHOLD as c_int => b"within_threshold\0",
-        e if e == JPROM_CORRECTIONS_MAX_CORRECTIONS as c_int => b"max_corrections\0",
-        e if e == JPROM_CORRECTIONS_NO_PROGRESS as c_int => b"no_progress\0",
-        e if e == JPROM_CORRECTIONS_CANCELLED as c_int => b"cancelled\0",
-        _ => b"unknown\0",
-    };
-    name.as_ptr() as *const c_char
+    // the words of CorrectionEnd::name, in the order of jprom_correction_end's values
+    crate::guard::enum_name(end, &[c"within_threshold", c"max_corrections", c"no_progress", c"cancelled"])
 }
 
 /// Why the corrections of a self-correcting sweep (`jprom_rom_sweep_adaptive`) ended (`end`),

@@ -462,15 +462,8 @@ pub unsafe extern "C" fn jprom_sweep_result_end_reason(sweep: *const jprom_sweep
 /// "left_band", "cancelled"; "unknown" for any other value). Static storage: do not free.
 #[no_mangle]
 pub extern "C" fn jprom_sweep_end_name(reason: c_int) -> *const c_char {
-    let name: &'static [u8] = match reason {
-        0 => b"reached_end\0",
-        1 => b"stalled\0",
-        2 => b"point_cap\0",
-        3 => b"left_band\0",
-        4 => b"cancelled\0",
-        _ => b"unknown\0",
-    };
-    name.as_ptr() as *const c_char
+    // the words of SweepEnd::name, in the order of jprom_sweep_end's values
+    crate::guard::enum_name(reason, &[c"reached_end", c"stalled", c"point_cap", c"left_band", c"cancelled"])
 }
 
 /// 1 if the sweep covered the whole band, 0 if it ended early (see `jprom_sweep_result_end_reason`

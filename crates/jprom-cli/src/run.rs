@@ -81,7 +81,7 @@ pub struct SolverRow {
     /// its checks, or the largest `e*_1` without checks (ROMs only; see `rom::adaptive`).
     pub worst_error: Option<f64>,
     /// Why its corrections ended (`within_threshold`, `max_corrections`, `no_progress`,
-    /// `stopped`; ROMs only): the two in the middle leave the basis above the threshold.
+    /// `cancelled`; ROMs only): the two in the middle leave the basis above the threshold.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corrections_end: Option<String>,
     /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its

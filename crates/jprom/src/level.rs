@@ -127,18 +127,18 @@ pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st
 /// [`stuck_limit_scale`], or 0 and the first contact at its limit in the static state.
 fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<(f64, String)> {
     let n = coords.n_dof;
-    // Undamped, the linear stuck response at the stuck resonance is unbounded: the solve below
-    // would return round-off-sized scales (1e-14 on the CalculiX block), silently.
-    let undamped = (0..n).all(|j| (0..n).all(|i| coords.dissipation(omega_st, i, j) == 0.0));
-    if undamped {
+    let kst = coords.stuck_stiffness();
+    let w2 = omega_st * omega_st;
+    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], coords.dissipation(omega_st, i, j)));
+    // Undamped (no imaginary part in D), the linear stuck response at the stuck resonance is
+    // unbounded: the solve below would return round-off-sized scales (1e-14 on the CalculiX
+    // block), silently.
+    if (0..n).all(|j| (0..n).all(|i| d[(i, j)].im == 0.0)) {
         return Err(JpError::invalid(
             "stuck limit",
             format!("the model has no damping: its linear stuck response at the stuck resonance ({omega_st:.6e} rad/s) is unbounded, so alpha_ST is not defined; set viscous, modal or hysteretic damping first"),
         ));
     }
-    let kst = coords.stuck_stiffness();
-    let w2 = omega_st * omega_st;
-    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], coords.dissipation(omega_st, i, j)));
     let (fc, fs) = &coords.harmonic_force[0];
     let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
     let q = d.partial_piv_lu().solve(&rhs);

@@ -621,6 +621,22 @@ fn correction_end_names_cover_every_end() {
     }
 }
 
+/// The C names are the core's words (the CLI's tables and files use those): one vocabulary for
+/// a sweep's end and a correction's end, whichever side of the ABI reads it.
+#[test]
+fn c_end_names_are_the_core_names() {
+    use jprom::hbm::SweepEnd;
+    let c_name = |p: *const std::ffi::c_char| unsafe { std::ffi::CStr::from_ptr(p) }.to_str().unwrap().to_owned();
+    for e in [CorrectionEnd::WithinThreshold, CorrectionEnd::MaxCorrections, CorrectionEnd::NoProgress, CorrectionEnd::Stopped] {
+        assert_eq!(c_name(jprom_correction_end_name(jprom_correction_end::from(e) as c_int)), e.name(), "{e:?}");
+    }
+    for e in [SweepEnd::ReachedEnd, SweepEnd::StepTooSmall, SweepEnd::MaxPoints, SweepEnd::LeftBand, SweepEnd::StoppedByCaller] {
+        assert_eq!(c_name(jprom_sweep_end_name(jprom_sweep_end::from(e) as c_int)), e.name(), "{e:?}");
+    }
+    assert_eq!(c_name(jprom_sweep_end_name(5)), "unknown");
+    assert_eq!(c_name(jprom_sweep_end_name(-1)), "unknown");
+}
+
 #[test]
 fn correction_kind_names_cover_every_kind_and_refuse_none() {
     let name = |k: c_int| unsafe { std::ffi::CStr::from_ptr(jprom_correction_kind_name(k)) }.to_str().unwrap().to_owned();

@@ -108,13 +108,14 @@ pub enum CorrectionEnd {
 }
 
 impl CorrectionEnd {
-    /// A short name: "within_threshold", "max_corrections", "no_progress", "stopped".
+    /// A short name: "within_threshold", "max_corrections", "no_progress", "cancelled" (the word
+    /// of [`crate::hbm::SweepEnd::name`] for a sweep its caller stopped).
     pub fn name(self) -> &'static str {
         match self {
             CorrectionEnd::WithinThreshold => "within_threshold",
             CorrectionEnd::MaxCorrections => "max_corrections",
             CorrectionEnd::NoProgress => "no_progress",
-            CorrectionEnd::Stopped => "stopped",
+            CorrectionEnd::Stopped => "cancelled",
         }
     }
 }
