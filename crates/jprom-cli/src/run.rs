@@ -84,6 +84,12 @@ pub struct SolverRow {
     /// `cancelled`; ROMs only): the two in the middle leave the basis above the threshold.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corrections_end: Option<String>,
+    /// The largest linearised error of the static contact displacement at the final pass'
+    /// checks (ROMs whose condensed full order is small enough to check; see
+    /// `rom::AdaptiveSweep::worst_static_error`). Not judged by the corrections; above
+    /// `basis.error_threshold` the static term `X0` is poor and `warnings` says so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_contact_error: Option<f64>,
     /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its
     /// share of the shared basis) (ROMs only, when the full order ran).
     #[serde(default)]
@@ -528,6 +534,7 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         warnings: vec![format!("failed: {why}")],
         worst_error: None,
         corrections_end: None,
+        static_contact_error: None,
         speed_up: None,
         case: String::new(),
     }
@@ -909,6 +916,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         warnings,
         worst_error: None,
         corrections_end: None,
+        static_contact_error: None,
         speed_up: None,
         case: String::new(),
     });
@@ -1005,6 +1013,13 @@ fn reduced_level(
             adaptive.end.name()
         ));
     }
+    let static_contact_error = adaptive.worst_static_error();
+    if let Some(e) = static_contact_error.filter(|&e| !(e <= aopts.threshold)) {
+        warnings.push(format!(
+            "the static term X0 is poor: linearised error of the static contact displacement {e:.3e} > {} (the corrections judge the first harmonic only); at gross slip the static term converges only with a nearly complete basis: raise basis.gamma where X0 matters, or use the full order (docs/formulation.md §10.6)",
+            aopts.threshold
+        ));
+    }
     let mut row = SolverRow {
         level,
         solver: name.to_string(),
@@ -1027,6 +1042,7 @@ fn reduced_level(
         warnings,
         worst_error: Some(adaptive.worst_error),
         corrections_end: Some(adaptive.end.name().into()),
+        static_contact_error,
         speed_up: None,
         case: String::new(),
     };

@@ -54,6 +54,14 @@ fn demo_covers_stick_to_gross_slip_with_one_basis_corrected_where_poor() {
         // why the corrections ended agrees with the judged error and the threshold
         let within = r.worst_error.unwrap() <= study.basis.error_threshold;
         assert_eq!(r.corrections_end.as_deref() == Some("within_threshold"), within, "{r:?}");
+        // the static contact displacement's error is reported, and warned of above the threshold
+        let w0 = r.static_contact_error.expect("the demo's checks give the static error");
+        let warned = r.warnings.iter().any(|w| w.contains("static term X0 is poor"));
+        assert_eq!(warned, w0 > study.basis.error_threshold, "{r:?}");
+        // where the static contact displacement is off, so is X0 at the outputs
+        if w0 > 1.0 {
+            assert!(r.error_x0.unwrap() > 1.0, "static error {w0} but err X0 {:?}", r.error_x0);
+        }
         if r.level == levels[2] {
             assert!(r.corrections >= 1, "the stuck-mode basis is corrected at gross slip");
             assert!(r.worst_error.unwrap() <= study.basis.error_threshold, "corrected within the threshold: {:?}", r.worst_error);

@@ -28,6 +28,10 @@
 //! spend every correction on a good basis). Where the condensed full-order Jacobian is too
 //! large to factorise for a check ([`MAX_CHECK_UNKNOWNS`]), or with
 //! [`AdaptiveOptions::verify`] off, the pass is judged by `e*` as in the paper.
+//! Each check also gives the linearised error of the static contact displacement
+//! ([`ErrorCheck::static_displacement`]), reported by [`AdaptiveSweep::worst_static_error`]
+//! but not judged: at gross slip the static term converges only with a nearly complete basis
+//! (docs/formulation.md §10.6), which no correction short of the full order gives.
 //! Corrections stop when the worst error is below the threshold, after
 //! `max_corrections`, or when no correction is left to try (a dropped correction at the
 //! largest `gamma` would only be repeated); [`AdaptiveSweep::end`] says which.
@@ -36,7 +40,7 @@ use super::{ReducedModel, RomKind};
 use crate::aft::Discretisation;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
-use crate::rom::error_metric::{linearised_error, POOR_BASIS_THRESHOLD};
+use crate::rom::error_metric::{linearised_errors, POOR_BASIS_THRESHOLD};
 use crate::hbm::{HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use crate::jp::{predict_basis, GeneratingShape, JpBasis, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
@@ -91,6 +95,13 @@ pub struct ErrorCheck {
     /// `e*_1` and the linearised error `e_lin_1` there.
     pub predicted: f64,
     pub linearised: f64,
+    /// The linearised error of the static contact displacement there
+    /// ([`crate::rom::error_metric::LinearisedErrors::static_displacement`]). It does not judge
+    /// the pass (the paper's criterion is the first harmonic's, and at gross slip a good static
+    /// term needs a nearly complete basis, docs/formulation.md §10.6);
+    /// [`AdaptiveSweep::worst_static_error`] reports it.
+    #[serde(default)]
+    pub static_displacement: f64,
 }
 
 /// Why the self-correcting sweep stopped correcting.
@@ -168,6 +179,15 @@ pub struct AdaptiveSweep {
     pub end: CorrectionEnd,
 }
 
+impl AdaptiveSweep {
+    /// The largest linearised error of the static contact displacement at the final pass'
+    /// checks ([`ErrorCheck::static_displacement`]; `None` without checks). Above the
+    /// threshold the static term `X0` is poor even where the first harmonic is within it.
+    pub fn worst_static_error(&self) -> Option<f64> {
+        self.checks.iter().map(|c| if c.static_displacement.is_nan() { f64::INFINITY } else { c.static_displacement }).reduce(f64::max)
+    }
+}
+
 struct Pass {
     sweep: SweepResult,
     errors: Vec<Vec<f64>>,
@@ -212,8 +232,9 @@ fn run_pass(
         for i in at {
             let p = &sw.points[i];
             // A singular full-order Jacobian at this point leaves it unchecked.
-            if let Ok(e) = linearised_error(rom, condensed, p.omega, &p.z) {
-                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1] });
+            if let Ok(lin) = linearised_errors(rom, condensed, p.omega, &p.z) {
+                let e = &lin.force;
+                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1], static_displacement: lin.static_displacement });
                 if !(e[1] <= judged) {
                     judged = if e[1].is_nan() { f64::INFINITY } else { e[1] };
                     judged_at = i;

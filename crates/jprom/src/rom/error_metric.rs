@@ -162,12 +162,36 @@ pub fn actual_error(rom: &dyn ReducedModel, omega: f64, z: &[f64], fo: &PointSol
 /// (see the module doc): one Newton step `δw = -J^-1 r` of the condensed full-order system
 /// `condensed` (of the same model and `H`) from the reduced contact motion `w`, and
 /// `e_lin_h = |F^h(w + δw) - F^h(w)| / |F^h(w)|`. Equal to the actual error (44) to first
-/// order, without a full-order solution.
+/// order, without a full-order solution. [`linearised_errors`] gives the static contact
+/// displacement's error from the same step.
 ///
 /// # Errors
 /// Size errors; a system whose `H` differs; [`JpError::SingularMatrix`] if `J` is singular at
 /// this point.
 pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
+    Ok(linearised_errors(rom, condensed, omega, z)?.force)
+}
+
+/// What one full-order Newton step from a reduced solution says of its error
+/// ([`linearised_errors`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearisedErrors {
+    /// `e_lin_h`, `h = 0..=H`: the contact forces' error per harmonic ([`linearised_error`]).
+    pub force: Vec<f64>,
+    /// `|δw_0| / |w_0 + δw_0|`: the static contact displacement's error (docs/formulation.md
+    /// §10.6). The contact forces' static part can be right while the static displacement is
+    /// not: at gross slip the mean friction force hardly depends on the static offsets, so a
+    /// small force error leaves a large offset error (on the blade at alpha_ST / 3000,
+    /// `e_lin_0` = 0.0078 with the static contact displacement 2.1 times its size off;
+    /// tests/static_term.rs).
+    pub static_displacement: f64,
+}
+
+/// [`linearised_error`] and the static contact displacement's error from the same Newton step.
+///
+/// # Errors
+/// As [`linearised_error`].
+pub fn linearised_errors(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64]) -> Result<LinearisedErrors> {
     let hh = rom.layout().harmonics;
     let nw = rom.n_contact_coords();
     if condensed.layout().harmonics != hh || condensed.n_contact_coords() != nw {
@@ -185,7 +209,11 @@ pub fn linearised_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, ome
     let f_rom = split(&contact_forces_with(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
     let f_new = split(&contact_forces_with(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
-    Ok((0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect())
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    Ok(LinearisedErrors {
+        force: (0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect(),
+        static_displacement: ratio(norm(&dw[..nw]), norm(&corrected[..nw])),
+    })
 }
 
 /// Relative error of harmonic `h` of the output response, `|X_ROM^h - X_FO^h| / |X_FO^h|`
