@@ -126,6 +126,10 @@ int main(int argc, char **argv) {
     TRY(jprom_sweep_result_correction_end(sweep, &corrections_end, &judged));
     printf("# corrections ended: %s, judged error %.3g (threshold %g)%s\n", jprom_correction_end_name((int)corrections_end), judged,
            jp.threshold, judged > jp.threshold ? ": the basis stayed poor" : "");
+    /* the static term, which the corrections do not judge (docs/formulation.md, section 10.6) */
+    double w0_error;
+    if (jprom_sweep_result_static_error(sweep, &w0_error) == JPROM_OK)
+        printf("# static contact displacement error %.3g%s\n", w0_error, w0_error > jp.threshold ? ": X0 is poor" : "");
     printf("# omega_rad_s X1_out0_y e*_1\n");
     for (size_t i = 0; i < n; ++i) {
         double w, x1, e1;

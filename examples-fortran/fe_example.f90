@@ -22,7 +22,7 @@ program fe_example
   integer :: k
   character(len=1024) :: deck, msg
   character(len=512) :: why
-  real(c_double) :: frame(3, 3), omega, e1
+  real(c_double) :: frame(3, 3), omega, e1, w0_error
   real(c_double), allocatable :: amps(:)
   integer(c_int64_t) :: tip(1024), out_nodes(64), load(8)
   integer :: i, n_dof, n_red, n_contacts, n_outputs, n_tip, n_out, n_load, n, n_corr, reason
@@ -94,6 +94,9 @@ program fe_example
   call check(jp_sweep_correction_end(sweep, corrections_end, judged, msg), 'jp_sweep_correction_end')
   write (*, '(a, a, a, g0.3, a, g0.3, a)') '# corrections ended: ', jp_correction_end_name(corrections_end), &
     ', judged error ', judged, ' (threshold ', jp%threshold, ')'
+  ! the static term, which the corrections do not judge (docs/formulation.md, 10.6)
+  if (jp_sweep_static_error(sweep, w0_error, msg) == JPROM_OK) &
+    write (*, '(a, g0.3)') '# static contact displacement error ', w0_error
   write (*, '(a)') '# omega_rad_s X1_out0_y e*_1'
   do i = 1, n
     call check(jp_sweep_point(sweep, i, omega, amps), 'jp_sweep_point')

@@ -414,6 +414,12 @@ module jprom_c
       integer(c_int), intent(out) :: reason
       real(c_double), intent(out) :: judged_error
     end function
+    integer(c_int) function jprom_sweep_result_static_error(sweep, out) &
+        bind(C, name="jprom_sweep_result_static_error")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sweep
+      real(c_double), intent(out) :: out
+    end function
     integer(c_int) function jprom_sweep_result_reached_end(sweep, out) bind(C, name="jprom_sweep_result_reached_end")
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
@@ -968,7 +974,8 @@ module jprom
   ! JP reduction
   public :: jp_basis_predict, jp_basis_from_solution, jp_basis_sizes, jp_basis_free, jp_basis_save, jp_basis_load, &
             jp_rom_sweep, jp_rom_sweep_adaptive, jp_sweep_point_error, jp_sweep_n_corrections, jp_sweep_correction, &
-            jp_correction_kind_name, jp_sweep_correction_end, jp_correction_end_name, jp_rom_actual_error
+            jp_correction_kind_name, jp_sweep_correction_end, jp_correction_end_name, jp_rom_actual_error, &
+            jp_sweep_static_error
   ! FE models
   public :: jp_fe_new_csc, jp_fe_load_calculix, jp_fe_free, jp_fe_n_dof, jp_fe_node_set, jp_fe_add_contact, &
             jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce, jp_fe_unreduced
@@ -1918,6 +1925,22 @@ contains
       judged_error = w
     end if
     jp_sweep_correction_end = finish(s, message)
+  end function
+
+  !> The largest linearised error of the static contact displacement at the checks of a self-correcting
+  !> sweep's final pass (+Infinity if not finite). Not judged by the corrections: above jp%threshold the static
+  !> term X0 is poor while the first harmonic may be good (at gross slip; docs/formulation.md, 10.6).
+  !> JPROM_INVALID_VALUE for any other sweep and for a sweep without checks.
+  integer function jp_sweep_static_error(sweep, error, message)
+    use jprom_c, only: jprom_sweep_result_static_error
+    type(c_ptr), intent(in) :: sweep
+    real(c_double), intent(out) :: error
+    character(len=*), intent(out), optional :: message
+    integer(c_int) :: s
+    real(c_double) :: w
+    s = jprom_sweep_result_static_error(sweep, w)
+    if (s == JPROM_OK) error = w
+    jp_sweep_static_error = finish(s, message)
   end function
 
   !> A short name for a correction end ("within_threshold", "max_corrections", "no_progress", "cancelled";

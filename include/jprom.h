@@ -625,6 +625,17 @@ jprom_status jprom_sweep_result_correction_end(const jprom_sweep_result *sweep,
                                                jprom_correction_end *end,
                                                double *judged_error);
 
+// The largest linearised error of the static contact displacement at the checked points of
+// a self-correcting sweep's final pass (`+inf` if not finite). The corrections do not judge it:
+// they judge the first harmonic (`jprom_sweep_result_correction_end`). Above
+// `jprom_jp_options.threshold` the reduced solution's static term is poor even where its first
+// harmonic is good; at gross slip it converges only with a nearly complete basis
+// (docs/formulation.md §10.6). `JPROM_INVALID_VALUE` for any other sweep (full order,
+// `jprom_rom_sweep`), for a sweep without checks (its condensed full order too large to
+// factorise) and for one loaded from a file saved without it; nothing is written then.
+// Since 0.3.
+jprom_status jprom_sweep_result_static_error(const jprom_sweep_result *sweep, double *out);
+
 // Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 // other sweep, and when the first basis was good enough).
 jprom_status jprom_sweep_result_n_corrections(const jprom_sweep_result *sweep, size_t *out);

@@ -581,6 +581,26 @@ pub unsafe extern "C" fn jprom_sweep_result_correction_end(sweep: *const jprom_s
     })
 }
 
+/// The largest linearised error of the static contact displacement at the checked points of
+/// a self-correcting sweep's final pass (`+inf` if not finite). The corrections do not judge it:
+/// they judge the first harmonic (`jprom_sweep_result_correction_end`). Above
+/// `jprom_jp_options.threshold` the reduced solution's static term is poor even where its first
+/// harmonic is good; at gross slip it converges only with a nearly complete basis
+/// (docs/formulation.md §10.6). `JPROM_INVALID_VALUE` for any other sweep (full order,
+/// `jprom_rom_sweep`), for a sweep without checks (its condensed full order too large to
+/// factorise) and for one loaded from a file saved without it; nothing is written then.
+/// Since 0.3.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_result_static_error(sweep: *const jprom_sweep_result, out: *mut f64) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let s = handle::get(sweep, "sweep")?;
+        let o = s.record.outcome.ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, "this sweep is not a self-correcting sweep's result (or was saved without how its corrections ended)"))?;
+        *out = o.static_error().ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, "no static error: the sweep made no error checks (its condensed full order is too large to factorise), or was saved without it"))?;
+        Ok(())
+    })
+}
+
 /// Number of basis corrections made by `jprom_rom_sweep_adaptive` for this sweep (0 for any
 /// other sweep, and when the first basis was good enough).
 #[no_mangle]

@@ -347,6 +347,12 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         assert_eq!((end, judged), (jprom_correction_end::JPROM_CORRECTIONS_MAX_CORRECTIONS, expect.worst_error));
         assert_eq!(std::ffi::CStr::from_ptr(jprom_correction_end_name(end as c_int)).to_str().unwrap(), "max_corrections");
         ok(jprom_sweep_result_correction_end(s, std::ptr::null_mut(), std::ptr::null_mut()));
+        // the static contact displacement's error at the checks, as Rust's
+        let mut w0 = -1.0;
+        ok(jprom_sweep_result_static_error(s, &mut w0));
+        assert_eq!(Some(w0), expect.worst_static_error());
+        assert!(w0 >= 0.0);
+        assert_eq!(jprom_sweep_result_static_error(s, std::ptr::null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
         // saved and loaded, the reduced sweep keeps its e* and its corrections
         let path = std::env::temp_dir().join(format!("jprom-adaptive-{}.json", std::process::id()));
         let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
@@ -368,6 +374,9 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let (mut end2, mut judged2) = (jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, -1.0);
         ok(jprom_sweep_result_correction_end(loaded, &mut end2, &mut judged2));
         assert_eq!((end2, judged2), (end, judged), "how the corrections ended, after a save and a load");
+        let mut w0_loaded = -1.0;
+        ok(jprom_sweep_result_static_error(loaded, &mut w0_loaded));
+        assert_eq!(w0_loaded, w0, "the static error after a save and a load");
         ok(jprom_sweep_result_free(loaded));
         std::fs::remove_file(&path).ok();
         // the final basis is usable: a plain ROM sweep on it gives the final pass again
@@ -381,6 +390,9 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let (mut end3, mut judged3) = (jprom_correction_end::JPROM_CORRECTIONS_NO_PROGRESS, -1.0);
         assert_eq!(jprom_sweep_result_correction_end(again, &mut end3, &mut judged3), jprom_status::JPROM_INVALID_VALUE);
         assert_eq!((end3, judged3), (jprom_correction_end::JPROM_CORRECTIONS_NO_PROGRESS, -1.0));
+        let mut w0_plain = -1.0;
+        assert_eq!(jprom_sweep_result_static_error(again, &mut w0_plain), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(w0_plain, -1.0, "nothing written");
         ok(jprom_sweep_result_free(again));
         ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
@@ -399,6 +411,9 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         assert_eq!(end4, fr_expect.end.into());
         assert_eq!(judged4, fr_expect.worst_error);
         assert!(judged4 <= 0.05 || end4 != jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, "within the threshold means below it");
+        let mut w0_fr = -1.0;
+        ok(jprom_sweep_result_static_error(fr, &mut w0_fr));
+        assert_eq!(Some(w0_fr), fr_expect.worst_static_error());
         ok(jprom_sweep_result_free(fr));
 
         // a callback that stops: OK with end reason CANCELLED, the points so far and the basis are handed out

@@ -453,6 +453,7 @@ static void one_call(void) {
                  break;
         case 13: { jprom_correction_end e; double judged;
                    seen("jprom_sweep_result_correction_end", jprom_sweep_result_correction_end(w, chance(50) ? &e : NULL, chance(50) ? &judged : NULL));
+                   seen("jprom_sweep_result_static_error", jprom_sweep_result_static_error(w, chance(50) ? &judged : NULL));
                    (void)jprom_correction_end_name((int)below(8) - 2);
                    (void)jprom_correction_kind_name((int)below(8) - 2);
                    break; }

@@ -225,6 +225,10 @@ int main(int argc, char **argv) {
         expect(jprom_sweep_result_correction_end(sweep, &end, &judged), JPROM_OK, "how the corrections of a linear model's sweep ended", NULL);
         check(end == JPROM_CORRECTIONS_WITHIN_THRESHOLD && judged >= 0.0 && judged <= jp.threshold, "a linear model's basis is within the threshold");
         expect(jprom_sweep_result_correction_end(NULL, &end, &judged), JPROM_NULL_ARGUMENT, "correction_end of a NULL sweep", "sweep");
+        double w0 = -1.0;
+        expect(jprom_sweep_result_static_error(NULL, &w0), JPROM_NULL_ARGUMENT, "static_error of a NULL sweep", "sweep");
+        expect(jprom_sweep_result_static_error(sweep, NULL), JPROM_NULL_ARGUMENT, "static_error into NULL", "'out'");
+        check(w0 == -1.0, "a refused static_error writes nothing");
     }
     jprom_sweep_result_free(sweep);
     jprom_basis_free(basis);
@@ -241,6 +245,9 @@ int main(int argc, char **argv) {
         double judged = -1.0;
         expect(jprom_sweep_result_correction_end(sweep, &end, &judged), JPROM_INVALID_VALUE, "correction_end of a full-order sweep", "not a self-correcting sweep");
         check(end == JPROM_CORRECTIONS_CANCELLED && judged == -1.0, "a refused correction_end writes nothing");
+        double w0 = -1.0;
+        expect(jprom_sweep_result_static_error(sweep, &w0), JPROM_INVALID_VALUE, "static_error of a full-order sweep", "not a self-correcting sweep");
+        check(w0 == -1.0, "a refused static_error writes nothing");
     }
     size_t live_before = 0, live_after = 0;
     jprom_live_handle_count(&live_before);

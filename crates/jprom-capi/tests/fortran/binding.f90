@@ -23,6 +23,7 @@ program binding
   integer, allocatable :: states(:), colptr(:), rowind(:)
   real(c_double), allocatable :: mvals(:), kvals(:)
   real(c_double) :: a1(2), a2(2), omega, omega2, coeffs(2, 7), amp, res, energy(1), e(0:3), estar, alpha, value, wb, wa, judged
+  real(c_double) :: w0err
   integer(c_size_t) :: budget
   integer(c_int64_t) :: node_rows(6, 3)
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
@@ -211,6 +212,8 @@ program binding
              (cend == JPROM_CORRECTIONS_MAX_CORRECTIONS .and. judged > jp_opts%threshold) .or. &
              (cend == JPROM_CORRECTIONS_NO_PROGRESS .and. judged > jp_opts%threshold), 'correction end and judged error')
   call check(jp_correction_end_name(cend) /= 'unknown' .and. jp_correction_end_name(99) == 'unknown', 'correction end names')
+  call ok(jp_sweep_static_error(asweep, w0err, msg), 'jp_sweep_static_error')
+  call check(w0err >= 0.0d0, 'static contact displacement error')
   call check(jp_sweep_correction(asweep, k + 1, kind, value, wb, wa, sizes, msg) == JPROM_INVALID_VALUE, &
              'correction n + 1 is refused')
   s = jp_sweep_free(asweep)

@@ -36,6 +36,21 @@ pub struct CorrectionOutcome {
     /// The judged error of the final pass; `None` if it was not finite (a point whose `e*` is
     /// not, which counts as the worst).
     pub worst_error: Option<f64>,
+    /// The largest linearised error of the static contact displacement at the final pass'
+    /// checks ([`AdaptiveSweep::worst_static_error`], not judged by the corrections);
+    /// `None` without checks and in files saved before it existed. A non-finite error is kept
+    /// as `f64::MAX` (JSON has no infinity); read it with [`CorrectionOutcome::static_error`],
+    /// which gives `+inf` back.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    static_error: Option<f64>,
+}
+
+impl CorrectionOutcome {
+    /// The static contact displacement's error of the final pass (see the field), `+inf` if
+    /// it was not finite; `None` without checks.
+    pub fn static_error(&self) -> Option<f64> {
+        self.static_error.map(|e| if e == f64::MAX { f64::INFINITY } else { e })
+    }
 }
 
 impl SweepRecord {
@@ -58,7 +73,8 @@ impl SweepRecord {
 impl SweepRecord {
     /// The record of a self-correcting sweep, and its final basis.
     pub fn with_basis(a: AdaptiveSweep) -> (Self, JpBasis) {
-        let outcome = CorrectionOutcome { end: a.end, worst_error: a.worst_error.is_finite().then_some(a.worst_error) };
+        let static_error = a.worst_static_error().map(|e| if e.is_finite() { e } else { f64::MAX });
+        let outcome = CorrectionOutcome { end: a.end, worst_error: a.worst_error.is_finite().then_some(a.worst_error), static_error };
         (SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections, outcome: Some(outcome) }, a.basis)
     }
 }
@@ -104,6 +120,31 @@ impl Document for SweepRecord {
                 return Ok(bad("outcome.worst_error", format!("must be >= 0, got {w}")));
             }
         }
+        if let Some(CorrectionOutcome { static_error: Some(w), .. }) = self.outcome {
+            if !(w >= 0.0) {
+                return Ok(bad("outcome.static_error", format!("must be >= 0, got {w}")));
+            }
+        }
         Ok(Ok(()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_static_error_survives_json_and_older_files_have_none() {
+        let round = |o: &CorrectionOutcome| serde_json::from_str::<CorrectionOutcome>(&serde_json::to_string(o).unwrap()).unwrap();
+        // a non-finite error (stored as f64::MAX, JSON having no infinity) comes back as +inf
+        let inf = CorrectionOutcome { end: CorrectionEnd::MaxCorrections, worst_error: Some(0.2), static_error: Some(f64::MAX) };
+        assert_eq!(round(&inf).static_error(), Some(f64::INFINITY));
+        let finite = CorrectionOutcome { static_error: Some(0.3), ..inf };
+        assert_eq!(round(&finite).static_error(), Some(0.3));
+        // without checks, and in a file saved before the field: none, and nothing written for it
+        let none = CorrectionOutcome { static_error: None, ..inf };
+        assert!(!serde_json::to_string(&none).unwrap().contains("static_error"));
+        let old: CorrectionOutcome = serde_json::from_str(r#"{"end":"MaxCorrections","worst_error":0.2}"#).unwrap();
+        assert_eq!((old.end, old.static_error()), (CorrectionEnd::MaxCorrections, None));
     }
 }
