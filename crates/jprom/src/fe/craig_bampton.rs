@@ -22,7 +22,7 @@ use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
 use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, Par};
+use faer::{Accum, Mat};
 
 /// Estimated bytes of the dense parts of a Craig-Bampton reduction with `ni` interior and `nb`
 /// boundary DoFs and up to `n_modes` fixed-interface modes: the reduced `K`, `M` (and `C`) and
@@ -171,7 +171,7 @@ impl CraigBampton {
             })
             .collect();
 
-        let par = Par::rayon(0);
+        let par = faer::get_global_parallelism();
         let mut k_red = Mat::<f64>::zeros(nr, nr);
         k_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&k_bb);
         for (r, &lam) in modes.eigenvalues.iter().enumerate() {

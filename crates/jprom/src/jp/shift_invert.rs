@@ -61,7 +61,7 @@ pub const INITIAL_REQUEST: usize = 16;
 pub const MAX_DOUBLINGS: usize = 8;
 
 fn par() -> Par {
-    Par::rayon(0)
+    faer::get_global_parallelism()
 }
 
 /// How [`ShiftedSolve`] factorises `K_JC - σ M_JC`.

@@ -183,7 +183,7 @@ pub fn dense_generalized_modes(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result
     let (a, llt) = cholesky_reduced(k, m)?;
     let (lambda, mut phi) = symmetric_eigen(&a, "dense symmetric eigenpairs")?;
     // x = L^-T y
-    faer::linalg::triangular_solve::solve_upper_triangular_in_place(llt.L().transpose(), phi.as_mut(), faer::Par::rayon(0));
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(llt.L().transpose(), phi.as_mut(), faer::get_global_parallelism());
     Ok((lambda, phi))
 }
 
@@ -214,9 +214,9 @@ fn cholesky_reduced(k: &faer::Mat<f64>, m: &faer::Mat<f64>) -> Result<(faer::Mat
     let llt = m.llt(faer::Side::Lower).map_err(|_| JpError::singular("mass (dense Cholesky)"))?;
     let l = llt.L();
     let mut a = k.clone();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::rayon(0));
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::get_global_parallelism());
     let mut at = a.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, at.as_mut(), faer::Par::rayon(0));
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, at.as_mut(), faer::get_global_parallelism());
     let a = faer::Mat::from_fn(n, n, |i, j| 0.5 * (at[(i, j)] + at[(j, i)]));
     Ok((a, llt))
 }

@@ -34,7 +34,7 @@ pub struct SparseCholesky {
 }
 
 fn par() -> Par {
-    Par::rayon(0)
+    faer::get_global_parallelism()
 }
 
 impl SparseCholesky {

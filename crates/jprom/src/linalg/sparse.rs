@@ -4,7 +4,7 @@
 
 use crate::error::{JpError, Result};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{Accum, Mat, MatMut, MatRef};
 
 /// The sparse matrix type of jprom: compressed sparse columns, `usize` indices.
 pub type SparseMat = SparseColMat<usize, f64>;
@@ -124,7 +124,7 @@ pub(crate) fn sparse_dense_block(a: &SparseMat, row_map: &[usize], n_rows: usize
 
 /// `out (+)= alpha * A X` for sparse `A` and dense `X`.
 pub(crate) fn spmm(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
-    faer::sparse::linalg::matmul::sparse_dense_matmul(out, accum, a.as_ref(), x, alpha, Par::rayon(0));
+    faer::sparse::linalg::matmul::sparse_dense_matmul(out, accum, a.as_ref(), x, alpha, faer::get_global_parallelism());
 }
 
 /// `y = A x` for sparse `A` and a vector.
