@@ -7,6 +7,7 @@
 //       -Ltarget/debug -ljprom -Wl,-rpath,$PWD/target/debug -o cpp_raii   (one line)
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -85,6 +86,14 @@ class Sweep {
         double judged = 0;
         check(jprom_sweep_result_correction_end(p_.get(), &end, &judged), "jprom_sweep_result_correction_end");
         return {end, judged};
+    }
+
+    // The linearised error of the static contact displacement at the final pass' checks
+    // (reported, not judged: docs/formulation.md §10.6); empty for a sweep without checks.
+    std::optional<double> static_error() const {
+        double e = 0;
+        if (jprom_sweep_result_static_error(p_.get(), &e) != JPROM_OK) return std::nullopt;
+        return e;
     }
 
   private:
@@ -201,6 +210,7 @@ int main() {
         const auto ended = reduced.correction_end();
         std::printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name(ended.first), ended.second,
                     jp.threshold);
+        if (const auto w0 = reduced.static_error()) std::printf("# JP: static contact displacement error %.6e\n", *w0);
         std::printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
         for (size_t i = 0; i < reduced.size(); ++i)
             std::printf("%zu %.10e %.10e %.10e %.10e\n", i, reduced.omega(i), reduced.amplitude(i, 1, 0), reduced.amplitude(i, 1, 1),

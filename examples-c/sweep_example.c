@@ -134,6 +134,10 @@ int main(void) {
     if (check(jprom_sweep_result_correction_end(rom, &corrections_end, &judged), "jprom_sweep_result_correction_end")) bad = 1;
     printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name((int)corrections_end), judged,
            jp_opts.threshold);
+    /* the static term's error, reported but not judged (docs/formulation.md §10.6) */
+    double w0_error = 0.0;
+    if (jprom_sweep_result_static_error(rom, &w0_error) == JPROM_OK)
+        printf("# JP: static contact displacement error %.6e\n", w0_error);
     printf("# index omega_rad_s X1_node0_x X1_node1_x e_star_1\n");
     for (size_t i = 0; i < n_points; ++i) {
         double omega, a0, a1, e1;

@@ -17,8 +17,10 @@ use std::ops::ControlFlow;
 
 /// The examples' model and sweeps, through the Rust API: the full-order rows (index, omega,
 /// |X1| node 0 x, |X1| node 1 x), then the rows of the self-correcting NLR sweep with the
-/// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1).
-fn rust_table() -> Vec<Vec<f64>> {
+/// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1); and the
+/// self-correcting sweep's static contact displacement error
+/// ([`jprom::rom::AdaptiveSweep::worst_static_error`]).
+fn rust_table_and_static_error() -> (Vec<Vec<f64>>, Option<f64>) {
     let model = examples_model();
     let opts = HbmOptions::default();
     let sys = CondensedSystem::new(&model, 3).unwrap();
@@ -32,7 +34,7 @@ fn rust_table() -> Vec<Vec<f64>> {
     rows.extend(jp.sweep.points.iter().zip(&jp.predicted_errors).enumerate().map(|(i, (p, e))| {
         vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1), e[1]]
     }));
-    rows
+    (rows, jp.worst_static_error())
 }
 
 /// `e*_1` below this is round-off (the threshold of a poor basis is 0.05).
@@ -55,7 +57,7 @@ fn assert_same_table(what: &str, got: &[Vec<f64>], expect: &[Vec<f64>]) {
 
 #[test]
 fn c_cpp_and_fortran_examples_print_the_rust_numbers() {
-    let expect = rust_table();
+    let (expect, rust_static) = rust_table_and_static_error();
     let c = compile_c(&[&root().join("examples-c/sweep_example.c")], "sweep_example_c", &[]);
     let c_out = run(&c);
     assert_same_table("C example", &table(&c_out), &expect);
@@ -66,6 +68,15 @@ fn c_cpp_and_fortran_examples_print_the_rust_numbers() {
     let cpp_out = run(&cpp);
     assert_same_table("C++ RAII example", &table(&cpp_out), &expect);
     assert!(cpp_out.contains("out-of-range point rejected"), "{cpp_out}");
+    // both report the static term's error of the self-correcting sweep, the same value
+    let static_line = |out: &str| out.lines().find(|l| l.starts_with("# JP: static contact displacement error")).map(str::to_string);
+    let (c_static, cpp_static) = (static_line(&c_out), static_line(&cpp_out));
+    assert!(c_static.is_some(), "the C example does not print the static error: {c_out}");
+    assert_eq!(c_static, cpp_static, "C and C++ static errors differ");
+    let value: f64 = c_static.unwrap().rsplit(' ').next().unwrap().parse().expect("a number");
+    let rust_static = rust_static.expect("the Rust sweep has checks");
+    // 7 significant digits printed; below 1e-9 both are round-off of an exact static term
+    assert!((value - rust_static).abs() <= 1e-6 * rust_static || value.max(rust_static) < 1e-9, "static error: C {value:e}, Rust {rust_static:e}");
     if have_gfortran() {
         let f = compile_fortran(&[&root().join("fortran/jprom.f90"), &root().join("examples-fortran/sweep_example.f90")], "sweep_example_f90");
         assert_same_table("Fortran example", &table(&run(&f)), &expect);
