@@ -20,10 +20,9 @@ use crate::error::{JpError, Result};
 use crate::hbm::options::check_omega;
 use crate::aft::Discretisation;
 use crate::hbm::{HarmonicLayout, HarmonicSystem, LinearPart};
-use crate::linalg::lu_checked;
+use crate::linalg::{lu_checked, product};
 use crate::model::contact_coordinates::dissipation;
 use crate::model::{ContactCoordinates, Model};
-use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
 /// Estimated bytes of a condensed system of `n` DoFs, `n_w` of them contact coordinates, at
@@ -146,7 +145,7 @@ impl CondensedSystem {
         }
         let x = lu.solve(&rhs);
         let d_nl = block(c, omega, h, 0, nw, nw, nl);
-        let prod = &d_nl * &x;
+        let prod = product(d_nl.as_ref(), x.as_ref());
         let re = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].re - prod[(i, j)].re);
         let im = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].im - prod[(i, j)].im);
         // g = f_N - D_NL D_LL^-1 f_L with f = f_c - i f_s: cos = Re g, sin = -Im g.
@@ -376,7 +375,7 @@ impl ProjectedCondensation {
                     rhs[(i, nh)] = c64::new(fc[i], -fs[i]);
                 }
                 let x = lu.solve(&rhs);
-                let prod = dlnp.transpose() * &x;
+                let prod = product(dlnp.transpose(), x.as_ref());
                 for j in 0..nh {
                     for i in 0..nh {
                         re[(i, j)] -= prod[(i, j)].re;

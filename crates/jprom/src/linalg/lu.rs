@@ -2,9 +2,84 @@
 //! equilibrated LU the Newton solvers use, dense or sparse, is [`super::MatrixLu`]).
 
 use crate::error::{JpError, Result};
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::traits::ComplexField;
-use faer::{c64, Mat};
+use faer::{c64, Conj, Mat, Par};
+
+/// Below this size a dense LU, its solves and [`product`] run on the calling thread: faer's
+/// parallel kernels hand their blocks to rayon, whose threads then wait on each other, and at
+/// this size the threads gain nothing. Measured on the demo's blade at `alpha_ST / 20` (2
+/// cores): the condensed full-order sweep (319 points), whose every frequency factorises the
+/// 77 x 77 complex `D_LL` and multiplies `D_NL D_LL^-1 D_LN`, took 2.5 to 2.9 s with these
+/// kernels on both threads and 1.6 s on one.
+pub(crate) const DENSE_PARALLEL_MIN: usize = 512;
+
+/// The parallelism of a dense factorisation or solve of size `n`: one thread below
+/// [`DENSE_PARALLEL_MIN`], faer's global setting above ([`crate::parallelism`]).
+pub(crate) fn dense_parallelism(n: usize) -> Par {
+    if n < DENSE_PARALLEL_MIN {
+        Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    }
+}
+
+/// `a b`, on the calling thread when every dimension is below [`DENSE_PARALLEL_MIN`] (faer's
+/// `*` operator takes the global parallelism whatever the size).
+pub fn product<T: ComplexField>(a: faer::MatRef<'_, T>, b: faer::MatRef<'_, T>) -> Mat<T> {
+    let mut out = Mat::<T>::zeros(a.nrows(), b.ncols());
+    let par = dense_parallelism(a.nrows().max(a.ncols()).max(b.ncols()));
+    faer::linalg::matmul::matmul(out.as_mut(), faer::Accum::Replace, a, b, T::one_impl(), par);
+    out
+}
+
+/// The LU factorisation with partial pivoting `P A = L U` of a square dense matrix, its
+/// factorisation and solves on the calling thread below [`DENSE_PARALLEL_MIN`].
+pub struct DenseLu<T> {
+    /// `L` (unit lower, below the diagonal) and `U` in one matrix.
+    lu: Mat<T>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+}
+
+impl<T: Pivot> DenseLu<T> {
+    /// Factorises the square matrix `a` (no singularity check: [`lu_checked`] has one).
+    ///
+    /// # Panics
+    /// If `a` is not square.
+    pub fn new(a: &Mat<T>) -> Self {
+        let n = a.nrows();
+        assert_eq!(a.ncols(), n, "DenseLu needs a square matrix");
+        let par = dense_parallelism(n);
+        let mut lu = a.clone();
+        let (mut perm, mut perm_inv) = (vec![0; n], vec![0; n]);
+        let mut mem = MemBuffer::new(factor::lu_in_place_scratch::<usize, T>(n, n, par, Default::default()));
+        factor::lu_in_place(lu.as_mut(), &mut perm, &mut perm_inv, par, MemStack::new(&mut mem), Default::default());
+        DenseLu { lu, perm, perm_inv }
+    }
+
+    /// `|U_ii|`, the modulus of pivot `i`.
+    fn pivot(&self, i: usize) -> f64 {
+        self.lu[(i, i)].modulus()
+    }
+
+    /// `A^-1 rhs`.
+    ///
+    /// # Panics
+    /// If `rhs` has another number of rows than `A`.
+    pub fn solve(&self, rhs: &Mat<T>) -> Mat<T> {
+        let n = self.lu.nrows();
+        assert_eq!(rhs.nrows(), n, "right-hand side of another size than the factorised matrix");
+        let par = dense_parallelism(n);
+        let mut x = rhs.clone();
+        let mut mem = MemBuffer::new(solve::solve_in_place_scratch::<usize, T>(n, rhs.ncols(), par));
+        // SAFETY: perm and perm_inv are the inverse permutations lu_in_place wrote
+        let p = unsafe { faer::perm::PermRef::new_unchecked(&self.perm, &self.perm_inv, n) };
+        solve::solve_in_place_with_conj(self.lu.as_ref(), self.lu.as_ref(), p, Conj::No, x.as_mut(), par, MemStack::new(&mut mem));
+        x
+    }
+}
 
 /// Factorises `a` by LU with partial pivoting and rejects (numerically) singular matrices:
 /// any pivot below `100 n eps` times the largest, or a non-finite pivot. Real (`f64`) or
@@ -12,14 +87,16 @@ use faer::{c64, Mat};
 ///
 /// # Errors
 /// [`JpError::SingularMatrix`] naming `what`.
-pub fn lu_checked<T: Pivot>(a: &Mat<T>, what: &str) -> Result<PartialPivLu<T>> {
-    let lu = a.partial_piv_lu();
-    let u = lu.U();
-    let n = u.nrows();
+pub fn lu_checked<T: Pivot>(a: &Mat<T>, what: &str) -> Result<DenseLu<T>> {
+    if a.ncols() != a.nrows() {
+        return Err(JpError::bad_size(format!("{what} (columns of a square matrix)"), a.nrows(), a.ncols()));
+    }
+    let lu = DenseLu::new(a);
+    let n = a.nrows();
     let mut max_p = 0.0f64;
     let mut min_p = f64::INFINITY;
     for i in 0..n {
-        let p = u[(i, i)].modulus();
+        let p = lu.pivot(i);
         if !p.is_finite() {
             return Err(JpError::singular(format!("{what}: non-finite pivot {i}")));
         }
@@ -61,7 +138,7 @@ pub fn check_nonsingular(a: &Mat<f64>, what: &str) -> Result<()> {
 }
 
 /// Solves `lu x = b` for one right-hand side.
-pub fn lu_solve(lu: &PartialPivLu<f64>, b: &[f64]) -> Vec<f64> {
+pub fn lu_solve(lu: &DenseLu<f64>, b: &[f64]) -> Vec<f64> {
     let rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
     let x = lu.solve(&rhs);
     (0..b.len()).map(|i| x[(i, 0)]).collect()
@@ -74,8 +151,10 @@ pub fn lu_solve(lu: &PartialPivLu<f64>, b: &[f64]) -> Vec<f64> {
 /// # Errors
 /// [`JpError::SingularMatrix`] naming `what`.
 pub fn solve_checked(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>> {
-    let lu = a.partial_piv_lu();
-    let x = lu.solve(b);
+    if a.ncols() != a.nrows() || b.nrows() != a.nrows() {
+        return Err(JpError::bad_size(format!("{what} (a square matrix and its right-hand sides)"), a.nrows(), if a.ncols() != a.nrows() { a.ncols() } else { b.nrows() }));
+    }
+    let x = DenseLu::new(a).solve(b);
     let finite = (0..x.ncols()).all(|j| (0..x.nrows()).all(|i| x[(i, j)].is_finite()));
     if !finite {
         return Err(JpError::singular(what));

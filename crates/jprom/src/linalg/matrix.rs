@@ -4,7 +4,7 @@
 //! and its HBM Jacobian sparse: `J = D + W^T K̂ W` has `O(n (2H+1))` nonzeros per row band of
 //! `K` plus one `d (2H+1)` square block per contact, where the dense form has `(n (2H+1))^2`.
 
-use super::lu::zero_column;
+use super::lu::{dense_parallelism, zero_column};
 use super::sparse::SparseMat;
 use crate::error::{JpError, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -284,17 +284,6 @@ pub struct MatrixLu {
     factors: Option<Factors>,
 }
 
-/// Below this size a dense LU runs on the calling thread: faer's parallel kernels hand their
-/// blocks to rayon, whose job queue allocates, and at this size the threads gain nothing.
-const DENSE_PARALLEL_MIN: usize = 512;
-
-fn dense_parallelism(n: usize) -> faer::Par {
-    if n < DENSE_PARALLEL_MIN {
-        faer::Par::Seq
-    } else {
-        faer::get_global_parallelism()
-    }
-}
 
 enum Factors {
     Dense(DenseFactors),

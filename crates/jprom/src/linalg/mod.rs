@@ -8,7 +8,7 @@ pub mod lu;
 pub mod matrix;
 pub mod sparse;
 
-pub use lu::{check_nonsingular, lu_checked, lu_solve, mat_vec, solve_checked};
+pub use lu::{check_nonsingular, lu_checked, lu_solve, mat_vec, product, solve_checked, DenseLu};
 pub use matrix::{Matrix, MatrixLu};
 pub use sparse::{sparse_from_triplets, sparse_matvec, sparse_to_dense, sparse_triplets, SparseMat};
 
