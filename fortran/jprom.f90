@@ -105,6 +105,14 @@ module jprom_c
       import :: c_int, c_size_t
       integer(c_size_t), intent(out) :: out
     end function
+    integer(c_int) function jprom_set_reproducible(on) bind(C, name="jprom_set_reproducible")
+      import :: c_int
+      integer(c_int), value :: on
+    end function
+    integer(c_int) function jprom_reproducible(out) bind(C, name="jprom_reproducible")
+      import :: c_int
+      integer(c_int), intent(out) :: out
+    end function
     function jprom_last_error_message() result(str) bind(C, name="jprom_last_error_message")
       import :: c_ptr
       type(c_ptr) :: str
@@ -955,6 +963,7 @@ module jprom
   public :: JPROM_MAX_HARMONICS, JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   ! errors, version, diagnostics
   public :: jp_last_error, jp_status_name, jp_version, jp_live_handle_count, jp_set_memory_budget, jp_memory_budget
+  public :: jp_set_reproducible, jp_reproducible
   ! models
   public :: jp_model_new, jp_model_new_csc, jp_model_clone, jp_model_free, jp_model_sizes, jp_add_ground_contact, &
             jp_add_contact, jp_add_jenkins, jp_add_polynomial_spring, jp_add_unilateral_spring, jp_add_friction_2d, &
@@ -1097,6 +1106,22 @@ contains
     use jprom_c, only: jprom_memory_budget
     integer(c_size_t), intent(out) :: bytes
     jp_memory_budget = int(jprom_memory_budget(bytes))
+  end function
+
+  !> Kernels on one thread (on = .true.), so that results do not depend on the thread count
+  !> (jprom_set_reproducible); .false. restores the default, kernels on all threads.
+  integer function jp_set_reproducible(on)
+    use jprom_c, only: jprom_set_reproducible
+    logical, intent(in) :: on
+    jp_set_reproducible = int(jprom_set_reproducible(merge(1_c_int, 0_c_int, on)))
+  end function
+
+  integer function jp_reproducible(on)
+    use jprom_c, only: jprom_reproducible
+    logical, intent(out) :: on
+    integer(c_int) :: v
+    jp_reproducible = int(jprom_reproducible(v))
+    on = v /= 0
   end function
 
   ! ---- models ----

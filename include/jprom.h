@@ -940,6 +940,20 @@ jprom_status jprom_model_save_json(const jprom_model *model, const char *path);
 // `jprom_model_new`.
 jprom_status jprom_model_load_json(const char *path, jprom_model **out);
 
+// With `on` nonzero, every dense and sparse kernel (LU, Cholesky, eigen solves, products)
+// runs on one thread, so that results are the same on any number of threads
+// (`RAYON_NUM_THREADS`); the independent tasks above them (the contact patterns of a JP
+// prediction) still run in parallel. With `on` = 0, kernels run on rayon's threads (the
+// default). Without it, a JP basis can differ between thread counts: its contact patterns
+// switch between stick and slip at thresholds, and the kernels' round-off differs with the
+// thread count (README, "Reproducibility"). Process-wide, like the memory budget; set it
+// before the calls it should govern. Since 0.3.
+jprom_status jprom_set_reproducible(int on);
+
+// Writes 1 to `*out` if kernels run on one thread (`jprom_set_reproducible`), else 0.
+// Since 0.3.
+jprom_status jprom_reproducible(int *out);
+
 // Writes the defaults of version 1 of `jprom_hbm_options` into `*out`. In `jprom.h` this
 // name is a macro for `jprom_hbm_options_init(out, sizeof *out)`.
 jprom_status jprom_hbm_options_default(jprom_hbm_options *out);

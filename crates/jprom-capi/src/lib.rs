@@ -17,6 +17,7 @@ pub mod fe;
 pub mod jp;
 pub mod limits;
 pub mod model;
+pub mod parallelism;
 pub mod solve;
 pub mod status;
 mod versioned;
@@ -25,6 +26,7 @@ pub use fe::*;
 pub use jp::*;
 pub use limits::*;
 pub use model::*;
+pub use parallelism::*;
 pub use solve::*;
 pub use status::*;
 

@@ -1,9 +1,10 @@
 //! `jprom`: runs a study described in a TOML or JSON file, or the built-in blade demo.
 //!
 //! ```text
-//! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at two levels
+//! jprom demo  [--out DIR]          built-in shrouded blade: FO, FR and NLR at three levels
 //! jprom run   STUDY [--out DIR]    a study file (see crates/jprom-cli/demo_study.toml)
 //!             [--jobs N]           N units (a solver at a level of a case) at once, in threads
+//!             [--reproducible]     the same numbers on any number of threads
 //! jprom check STUDY                validate a study file and every file and node it names
 //! jprom modes STUDY [--count N]    natural frequencies: FE model, CB model free and stuck
 //! jprom --version                  jprom <version>
@@ -40,15 +41,16 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]
+  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]
                                  run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
-  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]
+  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]
                                  run a study file (.toml or .json); --jobs N runs N units
                                  (a solver at a level of a case) at once in threads, same results;
-                                 --memory-budget SIZE (12G) caps what one stage may take
+                                 --memory-budget SIZE (12G) caps what one stage may take;
+                                 --reproducible: the same numbers on any number of threads
   jprom check STUDY              validate a study file and the files and nodes it names
                                  (without reading the matrices), print it with its defaults
-  jprom modes STUDY [--count N] [--memory-budget SIZE] [--quiet]
+  jprom modes STUDY [--count N] [--memory-budget SIZE] [--reproducible] [--quiet]
                                  natural frequencies of the FE model (lowest N, default 10), of
                                  its Craig-Bampton model with contacts open and stuck (modal
                                  forces, participation; * a stuck mode in the band), the stuck
@@ -79,20 +81,26 @@ const MEMORY_BUDGET: (&str, bool, &str) = (
     "SIZE: the most a stage (Craig-Bampton, a system, the JP prediction) may take, in bytes or with K, M, G, T (powers of 1024: 12G); default 70 % of the machine's memory. A stage beyond it stops the run with the size it needs",
 );
 
+const REPRODUCIBLE: (&str, bool, &str) = (
+    "--reproducible",
+    false,
+    "the same numbers on any number of threads (RAYON_NUM_THREADS): every linear-algebra kernel on one thread, the independent tasks (contact patterns, units) still in parallel; slower on large models. Without it a JP basis can differ between thread counts (README, \"Reproducibility\")",
+);
+
 const COMMANDS: [Command; 4] = [
     Command {
         name: "demo",
-        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]",
+        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]",
         about: "Runs the built-in shrouded-blade demo (crates/jprom-cli/demo_study.toml): full order, FR and\nNLR sweeps at each level, error predictor, summary table, CSV, JSON and SVG plots.",
         takes_study: false,
-        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
     },
     Command {
         name: "run",
-        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--quiet]",
+        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]",
         about: "Runs a study file (TOML or JSON): model, Craig-Bampton, sweeps, bases, CSV, JSON and SVG.",
         takes_study: true,
-        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
     },
     Command {
         name: "check",
@@ -103,10 +111,10 @@ const COMMANDS: [Command; 4] = [
     },
     Command {
         name: "modes",
-        synopsis: "jprom modes STUDY [--count N] [--memory-budget SIZE] [--quiet]",
+        synopsis: "jprom modes STUDY [--count N] [--memory-budget SIZE] [--reproducible] [--quiet]",
         about: "Natural frequencies of the FE model (lowest N), of its Craig-Bampton model with the contacts\nopen and stuck (modal forces, participation; * a stuck mode in the band), the stuck mode for\nthe band and a warning if the band holds none.",
         takes_study: true,
-        options: &[("--count", true, "N: how many FE natural frequencies (default 10)"), MEMORY_BUDGET, QUIET, HELP],
+        options: &[("--count", true, "N: how many FE natural frequencies (default 10)"), MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
     },
 ];
 
@@ -295,6 +303,9 @@ fn main() -> ExitCode {
             let jobs = jobs_arg(&p)?;
             if let Some(bytes) = memory_budget_arg(&p)? {
                 jprom::memory::MemoryBudget::set_global(Some(jprom::memory::MemoryBudget::new(bytes)));
+            }
+            if p.flag("--reproducible") {
+                jprom::parallelism::set_reproducible(true);
             }
             match (cmd.name, p.study.as_deref()) {
                 ("demo", _) => {

@@ -182,6 +182,11 @@ pub struct RunSummary {
     /// What the reader of the whole study must know (the band holds no stuck mode).
     pub warnings: Vec<String>,
     pub build_seconds: f64,
+    /// The threads the run had (`RAYON_NUM_THREADS`, else the machine's cores) and whether its
+    /// linear-algebra kernels ran on one thread (`--reproducible`): without it, the numbers of
+    /// a run are reproduced on the same number of threads only (README, "Reproducibility").
+    pub threads: usize,
+    pub reproducible: bool,
     /// Units of the CSV headers and amplitudes: `mm` and `mj` for the built-in blade, `lu` (the
     /// FE model's length unit) and `flu` (its force unit times `lu`) for an FE model.
     pub length_unit: String,
@@ -1522,6 +1527,8 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         incomplete,
         warnings: shared.cases.iter().flat_map(|c| c.warnings.iter().cloned()).collect(),
         build_seconds: shared.build_seconds,
+        threads: jprom::parallelism::threads(),
+        reproducible: jprom::parallelism::reproducible(),
         length_unit: units(study).0.into(),
         energy_unit: units(study).1.into(),
         rows,

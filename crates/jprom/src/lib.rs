@@ -61,6 +61,8 @@
 //! - [`level`]: excitation levels, `alpha_ST` and the stuck limit (§11).
 //! - [`memory`], [`limits`]: the memory budget and the documented caps that sizes from
 //!   outside are checked against before anything is allocated.
+//! - [`parallelism`]: kernels on one thread, for results that do not depend on the thread
+//!   count.
 //!
 //! Units are the caller's; the built-in blade uses mm, tonne, s (so N and MPa). Frequencies in
 //! the library are angular (`omega`, rad/s) unless a name says `_hz`.
@@ -68,6 +70,7 @@
 pub mod error;
 pub mod limits;
 pub mod memory;
+pub mod parallelism;
 pub mod linalg;
 pub mod model;
 pub mod contact;

@@ -2,19 +2,19 @@
 //! round differently on different thread counts, and the JP prediction's contact patterns can
 //! change with round-off (the demo on one thread and on two: shared basis [35, 14] from 78
 //! patterns vs [35, 13] from 76). jprom's numerics take their parallelism from faer's global
-//! setting, so with `faer::set_global_parallelism(Par::Seq)` they do not depend on rayon's
-//! thread count: the patterns still run in parallel, each solve on one thread.
+//! setting, so with `jprom::parallelism::set_reproducible(true)` (faer's `Par::Seq`) they do
+//! not depend on rayon's thread count: the patterns still run in parallel, each solve on one
+//! thread.
 //!
-//! One test in its own binary: it sets the process-wide faer setting.
+//! One test in its own binary: it sets the process-wide setting.
 
-use faer::Par;
 use jprom::jp::{predict_basis, PredictionOptions};
 use jprom::model::ContactCoordinates;
 use jprom_testkit::blade::Blade;
 
 #[test]
 fn with_sequential_kernels_the_model_and_basis_do_not_depend_on_the_thread_count() {
-    faer::set_global_parallelism(Par::Seq);
+    jprom::parallelism::set_reproducible(true);
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {

@@ -516,6 +516,11 @@ static void one_call(void) {
         seen("jprom_set_memory_budget", jprom_set_memory_budget(budgets[below(6)]));
         size_t out;
         seen("jprom_memory_budget", jprom_memory_budget(chance(90) ? &out : NULL));
+        if (chance(20)) {
+            int repro;
+            seen("jprom_set_reproducible", jprom_set_reproducible(chance(50) ? 0 : (int)rnd()));
+            seen("jprom_reproducible", jprom_reproducible(chance(90) ? &repro : NULL));
+        }
     } else { /* message readers never fail badly */
         char text[32];
         size_t written;
@@ -545,6 +550,7 @@ int main(int argc, char **argv) {
         seen("jprom_basis_free", jprom_basis_free(bases[i]));
     }
     jprom_set_memory_budget(0);
+    jprom_set_reproducible(0);
     size_t live = 99;
     jprom_live_handle_count(&live);
     if (live != 0) { printf("VIOLATION: %zu handles left after freeing every pool\n", live); violations++; }

@@ -177,6 +177,19 @@ int main(int argc, char **argv) {
     size_t again = 0;
     jprom_memory_budget(&again);
     check(again == budget, "the default budget is back");
+    /* reproducible kernels: NULL out refused; any nonzero is on; 0 restores the default */
+    {
+        int repro = -1;
+        expect(jprom_reproducible(NULL), JPROM_NULL_ARGUMENT, "reproducible into NULL", "out");
+        expect(jprom_reproducible(&repro), JPROM_OK, "reproducible (default)", NULL);
+        check(repro == 0, "kernels on all threads by default");
+        expect(jprom_set_reproducible(-7), JPROM_OK, "reproducible kernels on (a nonzero int)", NULL);
+        expect(jprom_reproducible(&repro), JPROM_OK, "reproducible (on)", NULL);
+        check(repro == 1, "reproducible reads back 1");
+        expect(jprom_set_reproducible(0), JPROM_OK, "reproducible kernels off", NULL);
+        expect(jprom_reproducible(&repro), JPROM_OK, "reproducible (off)", NULL);
+        check(repro == 0, "reproducible reads back 0");
+    }
     expect(jprom_solve_point(model, 100.0, &full, &sol), JPROM_OK, "the same solve within the budget", NULL);
 
     /* --- values --- */

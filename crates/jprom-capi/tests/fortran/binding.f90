@@ -27,7 +27,7 @@ program binding
   integer(c_size_t) :: budget
   integer(c_int64_t) :: node_rows(6, 3)
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
-  logical :: reached
+  logical :: reached, repro
   character(len=200) :: why
 
   call get_command_argument(1, dir)
@@ -51,6 +51,12 @@ program binding
   call ok(jp_set_memory_budget(0_c_size_t), 'jp_set_memory_budget(0)')
   call ok(jp_memory_budget(budget), 'jp_memory_budget')
   call check(budget > 123456789_c_size_t, 'memory budget default restored')
+  call ok(jp_set_reproducible(.true.), 'jp_set_reproducible(.true.)')
+  call ok(jp_reproducible(repro), 'jp_reproducible')
+  call check(repro, 'reproducible kernels read back')
+  call ok(jp_set_reproducible(.false.), 'jp_set_reproducible(.false.)')
+  call ok(jp_reproducible(repro), 'jp_reproducible')
+  call check(.not. repro, 'default kernels restored')
   call ok(jp_live_handle_count(handles0), 'jp_live_handle_count')
 
   ! ---- models: dense, CSC (1-based), clone, sizes ----
