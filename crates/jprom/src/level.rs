@@ -20,7 +20,6 @@ use crate::contact::ContactLaw;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
 use faer::c64;
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 /// What the levels of a study are measured against.
@@ -141,7 +140,7 @@ fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> 
     }
     let (fc, fs) = &coords.harmonic_force[0];
     let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
-    let q = d.partial_piv_lu().solve(&rhs);
+    let q = crate::linalg::DenseLu::new(&d).solve(&rhs);
     let mut scale = f64::INFINITY;
     let mut why = String::new();
     // A Parallel block's members each have their own limit; a polynomial spring has none.

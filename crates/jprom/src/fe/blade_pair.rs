@@ -49,7 +49,6 @@ use super::BladeParams;
 use crate::contact::Contact;
 use crate::error::{check_finite, JpError, Result};
 use crate::model::{Damping, Excitation, HarmonicForce, Model};
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 /// Options of the two-blade model.
@@ -307,7 +306,7 @@ impl BladePair {
     pub fn stuck_static_displacement(&self) -> Result<Vec<f64>> {
         let k = self.stuck_stiffness();
         let f = Mat::from_fn(self.n_dof(), 1, |i, _| self.static_force[i]);
-        let u = k.partial_piv_lu().solve(&f);
+        let u = crate::linalg::DenseLu::new(&k).solve(&f);
         let u: Vec<f64> = (0..self.n_dof()).map(|i| u[(i, 0)]).collect();
         if u.iter().any(|v| !v.is_finite()) {
             return Err(JpError::singular("stuck blade-pair stiffness"));

@@ -25,7 +25,7 @@ use super::ContactJacobian;
 use crate::aft::ContactForces;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use crate::linalg::{product, DenseLu};
 use faer::Mat;
 
 /// Entries of a pattern's contact block within this fraction of the contact's stuck stiffness
@@ -42,7 +42,7 @@ pub struct ReferenceFactors {
     /// `A_ref = K + K̂_ref,00` (dense, `n x n`).
     a_ref: Mat<f64>,
     /// LU of `B_h`, `h = 0..=H` (`B_0 = A_ref`).
-    lu: Vec<PartialPivLu<f64>>,
+    lu: Vec<DenseLu<f64>>,
     /// `Y_h = B_h^-1 E^T` (`n x n_w`), `h = 0..=H`.
     y: Vec<Mat<f64>>,
 }
@@ -162,10 +162,10 @@ impl ReferenceFactors {
                 format!("K + K̂_ref,00 - sigma h^2 M at h = {h} (the reference shift-invert of the JP prediction)")
             };
             let b = if h == 0 { a_ref.clone() } else { &a_ref - faer::Scale(shift * (h * h) as f64) * &coords.mass };
-            let f = b.partial_piv_lu();
+            let f = DenseLu::new(&b);
             let yh = f.solve(&e);
             // the solve must be accurate for the Woodbury corrections to be
-            let r = &b * &yh - &e;
+            let r = product(b.as_ref(), yh.as_ref()) - &e;
             let finite = (0..nw).all(|j| (0..n).all(|i| yh[(i, j)].is_finite()));
             if !finite || r.norm_l2() > 1e-9 * (b.norm_l2() * yh.norm_l2() + (nw as f64).sqrt()) {
                 return Err(JpError::singular(what));
@@ -192,7 +192,7 @@ impl ReferenceFactors {
     }
 
     /// LU of `B_h` (`h = 0`: `A_ref`).
-    pub(crate) fn lu(&self, h: usize) -> &PartialPivLu<f64> {
+    pub(crate) fn lu(&self, h: usize) -> &DenseLu<f64> {
         &self.lu[h]
     }
 

@@ -42,7 +42,7 @@ use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use crate::linalg::DenseLu;
 use faer::matrix_free::LinOp;
 use faer::{c64, Mat, MatMut, MatRef, Par};
 
@@ -239,13 +239,13 @@ fn gather(x: MatRef<'_, f64>, n: usize, rows: &[usize], nj: usize) -> Mat<f64> {
 /// harmonic `1..=H` into [`ReferenceFactors`]' `B_0..B_H`).
 #[derive(Debug)]
 enum HarmonicLus<'a> {
-    Own(Vec<PartialPivLu<f64>>),
+    Own(Vec<DenseLu<f64>>),
     Shared(&'a ReferenceFactors, Vec<usize>),
 }
 
 impl HarmonicLus<'_> {
     /// LU of `B_h` for harmonic `h = hi + 1`.
-    fn get(&self, hi: usize) -> &PartialPivLu<f64> {
+    fn get(&self, hi: usize) -> &DenseLu<f64> {
         match self {
             HarmonicLus::Own(v) => &v[hi],
             HarmonicLus::Shared(r, idx) => r.lu(idx[hi]),
@@ -255,14 +255,14 @@ impl HarmonicLus<'_> {
 
 #[derive(Debug)]
 enum Factors<'a> {
-    Dense(PartialPivLu<f64>),
+    Dense(DenseLu<f64>),
     Woodbury {
         /// LU of `B_h = K_b - σ h^2 M`, `h = 1..=H`.
         b: HarmonicLus<'a>,
         /// `B_h^-1 E_r^T` (`n x r`), `h = 1..=H`.
         y: Vec<Mat<f64>>,
         /// LU of `I + S R` (`2 H r` square).
-        cap: PartialPivLu<f64>,
+        cap: DenseLu<f64>,
     },
 }
 
@@ -305,7 +305,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
             (h, None) => h,
         };
         let factors = match how {
-            ShiftedFactorisation::Dense => Factors::Dense(problem.dense_shifted(shift).partial_piv_lu()),
+            ShiftedFactorisation::Dense => Factors::Dense(DenseLu::new(&problem.dense_shifted(shift))),
             _ => {
                 let (b, y) = match problem.reference {
                     Some(reference) => {
@@ -328,7 +328,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         let mut y = Vec::with_capacity(hh);
                         for h in 1..=hh {
                             let bh = problem.base - faer::Scale(shift * (h * h) as f64) * &problem.coords.mass;
-                            let lu = bh.partial_piv_lu();
+                            let lu = DenseLu::new(&bh);
                             y.push(lu.solve(&e));
                             lus.push(lu);
                         }
@@ -345,7 +345,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     let mut blk = cap.as_mut().submatrix_mut(0, cj * r, nj * r, r);
                     blk += &sr;
                 }
-                Factors::Woodbury { b, y, cap: cap.partial_piv_lu() }
+                Factors::Woodbury { b, y, cap: DenseLu::new(&cap) }
             }
         };
         let solve = ShiftedSolve { problem, shift, factors };

@@ -15,7 +15,7 @@ use faer::Mat;
 /// # Errors
 /// [`JpError::Eigen`] naming `what` if the solver fails or the residual is not small.
 pub fn symmetric_eigenpair_nearest(a: &Mat<f64>, target: f64, what: &str) -> Result<(f64, Vec<f64>)> {
-    use faer::linalg::solvers::Solve;
+    use super::DenseLu;
     let n = a.nrows();
     let eig = a
         .self_adjoint_eigenvalues(faer::Side::Lower)
@@ -28,7 +28,7 @@ pub fn symmetric_eigenpair_nearest(a: &Mat<f64>, target: f64, what: &str) -> Res
     let scale = a.norm_max().max(f64::MIN_POSITIVE);
     // A shift just off the eigenvalue keeps the factorisation regular and converges at once.
     let mu = lambda + 1e-10 * scale;
-    let lu = (a - Mat::<f64>::identity(n, n) * faer::Scale(mu)).partial_piv_lu();
+    let lu = DenseLu::new(&(a - Mat::<f64>::identity(n, n) * faer::Scale(mu)));
     let mut v = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 17) as f64 / 17.0);
     for _ in 0..4 {
         v = lu.solve(&v);
@@ -94,7 +94,7 @@ pub fn generalized_eigenpair_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, wh
 /// # Errors
 /// As [`generalized_eigenpair_nearest`]; `count = 0` is [`JpError::InvalidValue`].
 pub fn generalized_eigenpairs_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, count: usize, what: &str) -> Result<Vec<(f64, Vec<f64>)>> {
-    use faer::linalg::solvers::Solve;
+    use super::DenseLu;
     let n = k.nrows();
     if k.ncols() != n || m.nrows() != n || m.ncols() != n {
         return Err(JpError::bad_size(format!("{what}: pencil (K, M)"), n, m.nrows()));
@@ -107,7 +107,7 @@ pub fn generalized_eigenpairs_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, c
     }
     let p = NEAREST_BLOCK.max(2 * count).min(n);
     let count = count.min(p);
-    let lu = (k - m * faer::Scale(target)).partial_piv_lu();
+    let lu = DenseLu::new(&(k - m * faer::Scale(target)));
     let mut v = Mat::from_fn(n, p, |i, j| if i % p == j { 1.0 } else { 0.0 } + ((i * 7919 + j * 104729) % 23) as f64 / 230.0);
     let mut best = (f64::NAN, f64::INFINITY);
     for _ in 0..100 {

@@ -2,10 +2,10 @@
 //! equilibrated LU the Newton solvers use, dense or sparse, is [`super::MatrixLu`]).
 
 use crate::error::{JpError, Result};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::traits::ComplexField;
-use faer::{c64, Conj, Mat, Par};
+use faer::{c64, Conj, Mat, MatMut, Par};
 
 /// Below this size a dense LU, its solves and [`product`] run on the calling thread: faer's
 /// parallel kernels hand their blocks to rayon, whose threads then wait on each other, and at
@@ -36,6 +36,7 @@ pub fn product<T: ComplexField>(a: faer::MatRef<'_, T>, b: faer::MatRef<'_, T>) 
 
 /// The LU factorisation with partial pivoting `P A = L U` of a square dense matrix, its
 /// factorisation and solves on the calling thread below [`DENSE_PARALLEL_MIN`].
+#[derive(Debug)]
 pub struct DenseLu<T> {
     /// `L` (unit lower, below the diagonal) and `U` in one matrix.
     lu: Mat<T>,
@@ -51,32 +52,86 @@ impl<T: Pivot> DenseLu<T> {
     pub fn new(a: &Mat<T>) -> Self {
         let n = a.nrows();
         assert_eq!(a.ncols(), n, "DenseLu needs a square matrix");
-        let par = dense_parallelism(n);
-        let mut lu = a.clone();
-        let (mut perm, mut perm_inv) = (vec![0; n], vec![0; n]);
-        let mut mem = MemBuffer::new(factor::lu_in_place_scratch::<usize, T>(n, n, par, Default::default()));
-        factor::lu_in_place(lu.as_mut(), &mut perm, &mut perm_inv, par, MemStack::new(&mut mem), Default::default());
-        DenseLu { lu, perm, perm_inv }
+        let mut lu = Self::zeros(n);
+        lu.matrix_mut().copy_from(a);
+        let mut mem = MemBuffer::new(Self::scratch(n, 0));
+        lu.factor_in_place(MemStack::new(&mut mem));
+        lu
     }
 
-    /// `|U_ii|`, the modulus of pivot `i`.
-    fn pivot(&self, i: usize) -> f64 {
-        self.lu[(i, i)].modulus()
+    /// An `n x n` workspace: write the matrix with [`Self::matrix_mut`], then
+    /// [`Self::factor_in_place`] (how [`super::MatrixLu`] refactorises without allocating).
+    pub(crate) fn zeros(n: usize) -> Self {
+        DenseLu { lu: Mat::zeros(n, n), perm: vec![0; n], perm_inv: vec![0; n] }
+    }
+
+    /// The order `n`.
+    pub(crate) fn order(&self) -> usize {
+        self.lu.nrows()
+    }
+
+    /// The scratch a factorisation of order `n` and a solve of `ncols` right-hand sides need.
+    pub(crate) fn scratch(n: usize, ncols: usize) -> StackReq {
+        let par = dense_parallelism(n);
+        StackReq::any_of(&[
+            factor::lu_in_place_scratch::<usize, T>(n, n, par, Default::default()),
+            solve::solve_in_place_scratch::<usize, T>(n, ncols, par),
+        ])
+    }
+
+    /// The matrix to factorise (before [`Self::factor_in_place`]).
+    pub(crate) fn matrix_mut(&mut self) -> MatMut<'_, T> {
+        self.lu.as_mut()
+    }
+
+    /// `P A = L U` in place of `A`.
+    pub(crate) fn factor_in_place(&mut self, stack: &mut MemStack) {
+        let par = dense_parallelism(self.order());
+        factor::lu_in_place(self.lu.as_mut(), &mut self.perm, &mut self.perm_inv, par, stack, Default::default());
+    }
+
+    /// Rejects a (numerically) singular factorisation: any pivot below `100 n eps` times the
+    /// largest, or a non-finite pivot.
+    ///
+    /// # Errors
+    /// [`JpError::SingularMatrix`] naming `what()`.
+    pub(crate) fn check_pivots(&self, what: &dyn Fn() -> String) -> Result<()> {
+        let n = self.order();
+        let (mut max_p, mut min_p) = (0.0f64, f64::INFINITY);
+        for i in 0..n {
+            let p = self.lu[(i, i)].modulus();
+            if !p.is_finite() {
+                return Err(JpError::singular(format!("{}: non-finite pivot {i}", what())));
+            }
+            max_p = max_p.max(p);
+            min_p = min_p.min(p);
+        }
+        if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
+            return Err(JpError::singular(format!("{} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}", what())));
+        }
+        Ok(())
+    }
+
+    /// `x <- A^-1 x`.
+    pub(crate) fn solve_in_place(&self, x: MatMut<'_, T>, stack: &mut MemStack) {
+        let n = self.order();
+        // L and U share the factored matrix: the triangular solves read only their triangle
+        // SAFETY: perm and perm_inv are the inverse permutations lu_in_place wrote
+        let p = unsafe { faer::perm::PermRef::new_unchecked(&self.perm, &self.perm_inv, n) };
+        solve::solve_in_place_with_conj(self.lu.as_ref(), self.lu.as_ref(), p, Conj::No, x, dense_parallelism(n), stack);
     }
 
     /// `A^-1 rhs`.
     ///
     /// # Panics
     /// If `rhs` has another number of rows than `A`.
-    pub fn solve(&self, rhs: &Mat<T>) -> Mat<T> {
-        let n = self.lu.nrows();
+    pub fn solve(&self, rhs: impl faer::mat::AsMatRef<T = T, Rows = usize, Cols = usize>) -> Mat<T> {
+        let rhs = rhs.as_mat_ref();
+        let n = self.order();
         assert_eq!(rhs.nrows(), n, "right-hand side of another size than the factorised matrix");
-        let par = dense_parallelism(n);
-        let mut x = rhs.clone();
-        let mut mem = MemBuffer::new(solve::solve_in_place_scratch::<usize, T>(n, rhs.ncols(), par));
-        // SAFETY: perm and perm_inv are the inverse permutations lu_in_place wrote
-        let p = unsafe { faer::perm::PermRef::new_unchecked(&self.perm, &self.perm_inv, n) };
-        solve::solve_in_place_with_conj(self.lu.as_ref(), self.lu.as_ref(), p, Conj::No, x.as_mut(), par, MemStack::new(&mut mem));
+        let mut x = rhs.to_owned();
+        let mut mem = MemBuffer::new(Self::scratch(n, rhs.ncols()));
+        self.solve_in_place(x.as_mut(), MemStack::new(&mut mem));
         x
     }
 }
@@ -92,22 +147,7 @@ pub fn lu_checked<T: Pivot>(a: &Mat<T>, what: &str) -> Result<DenseLu<T>> {
         return Err(JpError::bad_size(format!("{what} (columns of a square matrix)"), a.nrows(), a.ncols()));
     }
     let lu = DenseLu::new(a);
-    let n = a.nrows();
-    let mut max_p = 0.0f64;
-    let mut min_p = f64::INFINITY;
-    for i in 0..n {
-        let p = lu.pivot(i);
-        if !p.is_finite() {
-            return Err(JpError::singular(format!("{what}: non-finite pivot {i}")));
-        }
-        max_p = max_p.max(p);
-        min_p = min_p.min(p);
-    }
-    if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
-        return Err(JpError::singular(format!(
-            "{what} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}"
-        )));
-    }
+    lu.check_pivots(&|| what.to_string())?;
     Ok(lu)
 }
 
@@ -159,7 +199,7 @@ pub fn solve_checked(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>>
     if !finite {
         return Err(JpError::singular(what));
     }
-    let r = a * &x - b;
+    let r = product(a.as_ref(), x.as_ref()) - b;
     let scale = a.norm_l2() * x.norm_l2() + b.norm_l2();
     if r.norm_l2() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
         return Err(JpError::singular(what));

@@ -4,7 +4,7 @@
 //! and its HBM Jacobian sparse: `J = D + W^T K̂ W` has `O(n (2H+1))` nonzeros per row band of
 //! `K` plus one `d (2H+1)` square block per contact, where the dense form has `(n (2H+1))^2`.
 
-use super::lu::{dense_parallelism, zero_column};
+use super::lu::{zero_column, DenseLu};
 use super::sparse::SparseMat;
 use crate::error::{JpError, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -292,9 +292,7 @@ enum Factors {
 
 struct DenseFactors {
     /// `B`, then its `L` (unit lower) and `U` in place
-    lu: Mat<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
+    lu: DenseLu<f64>,
     mem: MemBuffer,
     rhs: Mat<f64>,
 }
@@ -368,49 +366,24 @@ impl MatrixLu {
 
     fn factor_dense(&mut self, a: &Mat<f64>, what: &dyn Fn() -> String) -> Result<()> {
         let n = a.nrows();
-        let par = dense_parallelism(n);
-        let fits = matches!(&self.factors, Some(Factors::Dense(f)) if f.lu.nrows() == n);
+        let fits = matches!(&self.factors, Some(Factors::Dense(f)) if f.lu.order() == n);
         if !fits {
-            let scratch = StackReq::any_of(&[
-                faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()),
-                faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<usize, f64>(n, 1, par),
-            ]);
             self.factors = Some(Factors::Dense(DenseFactors {
-                lu: Mat::zeros(n, n),
-                perm: vec![0; n],
-                perm_inv: vec![0; n],
-                mem: MemBuffer::try_new(scratch).map_err(|_| JpError::singular(format!("{}: no memory for the LU scratch", what())))?,
+                lu: DenseLu::zeros(n),
+                mem: MemBuffer::try_new(DenseLu::<f64>::scratch(n, 1)).map_err(|_| JpError::singular(format!("{}: no memory for the LU scratch", what())))?,
                 rhs: Mat::zeros(n, 1),
             }));
         }
         let Some(Factors::Dense(f)) = self.factors.as_mut() else { unreachable!("dense factors set above") };
+        let (row, col) = (&self.row, &self.col);
+        let mut b = f.lu.matrix_mut();
         for j in 0..n {
-            let cj = self.col[j];
-            for (i, (b, &v)) in f.lu.col_mut(j).iter_mut().zip(a.col(j).iter()).enumerate() {
-                *b = v * cj * self.row[i];
+            for i in 0..n {
+                b[(i, j)] = a[(i, j)] * col[j] * row[i];
             }
         }
-        faer::linalg::lu::partial_pivoting::factor::lu_in_place(
-            f.lu.as_mut(),
-            &mut f.perm,
-            &mut f.perm_inv,
-            par,
-            MemStack::new(&mut f.mem),
-            Default::default(),
-        );
-        let (mut max_p, mut min_p) = (0.0f64, f64::INFINITY);
-        for i in 0..n {
-            let p = f.lu[(i, i)].abs();
-            if !p.is_finite() {
-                return Err(JpError::singular(format!("{}: non-finite pivot {i}", what())));
-            }
-            max_p = max_p.max(p);
-            min_p = min_p.min(p);
-        }
-        if n > 0 && (max_p == 0.0 || min_p <= 100.0 * n as f64 * f64::EPSILON * max_p) {
-            return Err(JpError::singular(format!("{} ({n} x {n}): smallest pivot {min_p:.3e} vs largest {max_p:.3e}", what())));
-        }
-        Ok(())
+        f.lu.factor_in_place(MemStack::new(&mut f.mem));
+        f.lu.check_pivots(what)
     }
 
     fn factor_sparse(&mut self, a: &SparseMat, what: &dyn Fn() -> String) -> Result<()> {
@@ -472,28 +445,13 @@ impl MatrixLu {
     pub fn solve_into(&mut self, rhs: &[f64], x: &mut [f64]) {
         let n = self.row.len();
         assert!(rhs.len() == n && x.len() == n, "right-hand side and solution must have the factorised size");
-        let par = match &self.factors {
-            Some(Factors::Dense(_)) => dense_parallelism(n),
-            _ => faer::get_global_parallelism(),
-        };
         let (row, col) = (&self.row, &self.col);
         match self.factors.as_mut().expect("solve_into needs a successful factor") {
             Factors::Dense(f) => {
                 for i in 0..n {
                     f.rhs[(i, 0)] = rhs[i] * row[i];
                 }
-                // L and U share the factored matrix: the triangular solves read only their triangle
-                // SAFETY: perm and perm_inv are the inverse permutations lu_in_place wrote
-                let p = unsafe { faer::perm::PermRef::new_unchecked(&f.perm, &f.perm_inv, n) };
-                faer::linalg::lu::partial_pivoting::solve::solve_in_place_with_conj(
-                    f.lu.as_ref(),
-                    f.lu.as_ref(),
-                    p,
-                    Conj::No,
-                    f.rhs.as_mut(),
-                    par,
-                    MemStack::new(&mut f.mem),
-                );
+                f.lu.solve_in_place(f.rhs.as_mut(), MemStack::new(&mut f.mem));
                 for i in 0..n {
                     x[i] = f.rhs[(i, 0)] * col[i];
                 }
@@ -502,6 +460,7 @@ impl MatrixLu {
                 for i in 0..n {
                     f.rhs[(i, 0)] = rhs[i] * row[i];
                 }
+                let par = faer::get_global_parallelism();
                 LuRef::new_unchecked(&f.symbolic, &f.numeric).solve_in_place_with_conj(Conj::No, f.rhs.as_mut(), par, MemStack::new(&mut f.mem));
                 for i in 0..n {
                     x[i] = f.rhs[(i, 0)] * col[i];
