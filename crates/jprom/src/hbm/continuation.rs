@@ -31,8 +31,10 @@
 //!   halved instead, down to the restart below (a fold goes on along another part of the
 //!   branch and is taken).
 //! * **Step control**: after a success `ds` is scaled by the smaller of
-//!   `target_iterations / iterations` and `max_angle / (2 angle)` (the angle between successive
-//!   chords), each clamped to `[1/2, 2]`, within `[min_step, max_step]`, and capped so that
+//!   `target_iterations / iterations` and `max_angle / (2 kappa ds)`, `kappa` the smaller turn
+//!   per unit arclength (the angle between successive chords over `ds`) of this step and the
+//!   last (a kink turns one step alone: docs/formulation.md §6.5), each clamped to `[1/2, 2]`,
+//!   within `[min_step, max_step]`, and capped so that
 //!   `omega` moves by at most `max_omega_step` of the band; a failed corrector halves `ds`.
 //! * **Restart**: when `ds` falls below `min_step` (a corrector that cannot settle on a kink),
 //!   the sweep tries to step over it at fixed frequency: the point solver at a slightly larger
@@ -458,6 +460,8 @@ pub fn sweep_from(
         tangent(&top.expect("jacobian requested"), &orient, metric, w0)?
     };
     let mut ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
+    // the turn per unit arclength of the last smooth step (None after a corner or a restart)
+    let mut last_curvature: Option<f64> = None;
     loop {
         if result.points.len() >= sopts.max_points {
             let omega = y[n];
@@ -556,6 +560,7 @@ pub fn sweep_from(
             // frequency (oriented along the last direction it may lead back into that point)
             result.restarts.push(omega);
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
+            last_curvature = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &orient, metric, corrected.y[n])?
@@ -564,13 +569,20 @@ pub fn sweep_from(
             // along the tangent of the new piece (the chord across the corner points between
             // the two pieces, a poor predictor)
             ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
+            last_curvature = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &chord, metric, corrected.y[n])?
         } else {
             let iters = corrected.iterations.max(1) as f64;
             let f_iter = (sopts.target_iterations as f64 / iters).clamp(0.5, 2.0);
-            let f_angle = if angle > 0.0 { (0.5 * sopts.max_angle / angle).clamp(0.5, 2.0) } else { 2.0 };
+            // The smaller of this step's and the last step's turn per unit length: on a smooth
+            // branch the two agree; a kink (a contact changing state within the step) turns one
+            // step alone, and shortening the next for it would only add points.
+            let curvature = angle / ds;
+            let smooth = last_curvature.map_or(curvature, |k| k.min(curvature));
+            last_curvature = Some(curvature);
+            let f_angle = if smooth > 0.0 { (0.5 * sopts.max_angle / (smooth * ds)).clamp(0.5, 2.0) } else { 2.0 };
             ds = (ds * f_iter.min(f_angle)).clamp(sopts.min_step, sopts.max_step);
             chord
         };
