@@ -1,6 +1,8 @@
 //! Dense eigen solvers: the eigenpair of a symmetric matrix or a symmetric-definite pencil
 //! nearest a target (inverse / subspace iteration, never a full eigen solve of the vectors),
-//! all eigenvalues of a dense pencil, and a power-iteration norm estimate.
+//! all eigenvalues of a dense pencil, and a power-iteration norm estimate. Products and
+//! factorisations go through [`super::product`] and [`super::DenseLu`], on the calling thread
+//! below their size threshold, as the rest of the dense kernels.
 
 use crate::error::{JpError, Result};
 use faer::Mat;
@@ -38,7 +40,7 @@ pub fn symmetric_eigenpair_nearest(a: &Mat<f64>, target: f64, what: &str) -> Res
         }
         v /= nv;
     }
-    let av = a * &v;
+    let av = super::product(a.as_ref(), v.as_ref());
     let rayleigh = (v.transpose() * &av)[(0, 0)];
     let residual = (&av - &v * faer::Scale(rayleigh)).norm_l2();
     if !(residual <= 1e-8 * scale) {
@@ -111,16 +113,16 @@ pub fn generalized_eigenpairs_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, c
     let mut v = Mat::from_fn(n, p, |i, j| if i % p == j { 1.0 } else { 0.0 } + ((i * 7919 + j * 104729) % 23) as f64 / 230.0);
     let mut best = (f64::NAN, f64::INFINITY);
     for _ in 0..100 {
-        let x = lu.solve(m * &v);
+        let x = lu.solve(super::product(m.as_ref(), v.as_ref()));
         if !(0..p).all(|j| x.col(j).iter().all(|z| z.is_finite())) {
             return Err(JpError::Eigen { what: format!("{what}: K - sigma M singular at sigma = {target:e}") });
         }
         // Orthonormal basis of the new block, then Rayleigh-Ritz on (K, M).
         let q = x.qr().compute_thin_Q();
-        let kq = k * &q;
-        let mq = m * &q;
-        let kr = q.transpose() * &kq;
-        let mr = q.transpose() * &mq;
+        let kq = super::product(k.as_ref(), q.as_ref());
+        let mq = super::product(m.as_ref(), q.as_ref());
+        let kr = super::product(q.transpose(), kq.as_ref());
+        let mr = super::product(q.transpose(), mq.as_ref());
         let kr = Mat::from_fn(p, p, |i, j| 0.5 * (kr[(i, j)] + kr[(j, i)]));
         let mr = Mat::from_fn(p, p, |i, j| 0.5 * (mr[(i, j)] + mr[(j, i)]));
         let l = mr.llt(faer::Side::Lower).map_err(|_| JpError::Eigen { what: format!("{what}: projected mass not positive definite") })?;
@@ -139,22 +141,22 @@ pub fn generalized_eigenpairs_nearest(k: &Mat<f64>, m: &Mat<f64>, target: f64, c
         for &j in &order[..count] {
             let lambda = s[j];
             let yj = y.as_ref().subcols(j, 1);
-            let kx = &kq * yj;
-            let mx = &mq * yj;
+            let kx = super::product(kq.as_ref(), yj);
+            let mx = super::product(mq.as_ref(), yj);
             let res = (&kx - &mx * faer::Scale(lambda)).norm_l2() / (kx.norm_l2() + lambda.abs() * mx.norm_l2()).max(f64::MIN_POSITIVE);
             if !(res.is_finite() && res < 1e-10) {
                 converged = false;
                 best = (lambda, res);
                 break;
             }
-            let xv = &q * yj;
+            let xv = super::product(q.as_ref(), yj);
             let nx = xv.norm_l2();
             pairs.push((lambda, (0..n).map(|i| xv[(i, 0)] / nx).collect()));
         }
         if converged {
             return Ok(pairs);
         }
-        v = &q * &y;
+        v = super::product(q.as_ref(), y.as_ref());
     }
     Err(JpError::Eigen { what: format!("{what}: subspace iteration nearest {target:e} stopped at lambda = {:e}, residual {:e}", best.0, best.1) })
 }
