@@ -1,8 +1,9 @@
 //! Dense eigen solvers: the eigenpair of a symmetric matrix or a symmetric-definite pencil
 //! nearest a target (inverse / subspace iteration, never a full eigen solve of the vectors),
-//! all eigenvalues of a dense pencil, and a power-iteration norm estimate. Products and
+//! all eigenvalues of a dense pencil, and a power-iteration norm estimate. Products and LU
 //! factorisations go through [`super::product`] and [`super::DenseLu`], on the calling thread
-//! below their size threshold, as the rest of the dense kernels.
+//! below their size threshold, as the rest of the dense kernels; the QR, Cholesky and
+//! eigenvalue calls take faer's global parallelism (its high-level API has no `Par` argument).
 
 use crate::error::{JpError, Result};
 use faer::Mat;
