@@ -265,13 +265,13 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     let band = (80.0, 200.0);
     let model = rust_model();
     let hopts = HbmOptions::default();
-    // A basis short of complete (gamma 3, 5 samples: n_h = [4, 8] of the condensed system's
-    // [6, 10]), so that the errors that decide each correction are far above round-off and the
-    // sequence is the same on any number of threads (with the default gamma the basis is exact,
-    // the judged errors are 1e-15 and a threshold below them let round-off pick the kinds).
-    // Step 1, a regeneration: its modes alone are worse (0.9 against 0.058), their union spans
-    // the basis' own subspace and is not swept; it did not halve the error, so step 2 enlarges
-    // gamma, which completes the basis (error ~1e-14, within the threshold).
+    // A basis short of complete (gamma 3, 5 samples), so that the errors that decide each
+    // correction are far above round-off and the sequence is the same on any number of threads
+    // (with the default gamma the basis is exact, the judged errors are 1e-15 and a threshold
+    // below them let round-off pick the kinds). Step 1, a regeneration: its modes alone are
+    // worse (0.9 against 0.058), their union ([4, 8]) is swept and gives 0.058 again; it did not
+    // halve the error, so step 2 enlarges gamma to 30, which completes the basis ([6, 10], error
+    // ~1e-14, within the threshold).
     let mut pred = PredictionOptions::new(band);
     pred.n_samples = 5;
     pred.gamma = 3.0;
