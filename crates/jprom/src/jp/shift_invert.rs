@@ -538,8 +538,8 @@ fn refine(problem: &CondensedProblem<'_>, op: &Operator<'_, '_, '_>, pairs: &mut
     let q = svd.U().subcols(0, r).to_owned();
     let kq = problem.apply_shifted(q.as_ref(), 0.0);
     let mq = problem.apply_mass(q.as_ref());
-    let kr = q.transpose() * &kq;
-    let mr = q.transpose() * &mq;
+    let kr = crate::linalg::product(q.transpose(), kq.as_ref());
+    let mr = crate::linalg::product(q.transpose(), mq.as_ref());
     let mr = Mat::from_fn(r, r, |i, j| 0.5 * (mr[(i, j)] + mr[(j, i)]));
     let l = mr.llt(faer::Side::Lower).map_err(|_| JpError::Eigen { what: "Rayleigh-Ritz: projected mass not positive definite".into() })?.L().to_owned();
     let mut b = kr;
@@ -552,7 +552,7 @@ fn refine(problem: &CondensedProblem<'_>, op: &Operator<'_, '_, '_>, pairs: &mut
     let mut yim = Mat::from_fn(r, r, |i, k| y[(i, k)].im);
     l.transpose().solve_upper_triangular_in_place(yre.as_mut());
     l.transpose().solve_upper_triangular_in_place(yim.as_mut());
-    let (xre, xim) = (&q * &yre, &q * &yim);
+    let (xre, xim) = (crate::linalg::product(q.as_ref(), yre.as_ref()), crate::linalg::product(q.as_ref(), yim.as_ref()));
     let mut used = vec![false; r];
     for p in pairs.iter_mut() {
         let best = (0..r)
