@@ -142,3 +142,50 @@ fn without_friction_or_with_an_external_law_there_are_no_slipping_samples() {
     external.contacts[0].law = ContactLaw::External(ExternalLaw::new(3, f).unwrap());
     check(&external, "an external law");
 }
+
+/// `predict_modes` keeps the per-pattern modes that `predict_basis` conditions: conditioned
+/// with another `gamma` they give the basis a new prediction with that `gamma` gives (what the
+/// self-correcting sweep's `gamma` steps rely on), with and without the slipping patterns'
+/// separate conditioning, at H = 1 and H = 3.
+#[test]
+fn predicted_modes_give_the_basis_of_another_gamma_without_a_new_prediction() {
+    use jprom::jp::predict_modes;
+    let blade = Blade::build();
+    let model = blade.at_level(blade.alpha_st / 3000.0);
+    for (harmonics, slipping, samples) in [(1, SlippingSamples::Always, 100), (3, SlippingSamples::Never, 12)] {
+        let coords = ContactCoordinates::new(&model, harmonics).unwrap();
+        let mut opts = PredictionOptions::new(band());
+        opts.slipping = slipping;
+        opts.n_samples = samples;
+        let (modes, report) = predict_modes(&coords, &opts).unwrap();
+        assert_eq!(modes.modes.len(), report.n_patterns);
+        assert_eq!(modes.slipping_patterns, report.slipping_patterns);
+        if slipping == SlippingSamples::Always {
+            assert!(report.slipping_patterns > 0, "no slipping pattern at alpha_ST / 3000");
+        }
+        let mut sizes = Vec::new();
+        for gamma in [1e2, 1e4] {
+            let reused = modes.basis(gamma).unwrap();
+            let (fresh, fresh_report) = predict_basis(&coords, &PredictionOptions { gamma, ..opts.clone() }).unwrap();
+            assert_eq!(fresh_report.n_patterns, report.n_patterns);
+            assert_eq!(reused.sizes, fresh.sizes, "H = {harmonics}, gamma {gamma}");
+            assert!(reused.spans_the_same(&fresh, 1e-8), "H = {harmonics}, gamma {gamma}: spans differ");
+            assert_eq!(reused.band, fresh.band);
+            sizes.push(reused.sizes.iter().sum::<usize>());
+        }
+        println!("H = {harmonics}: {} patterns, sizes {sizes:?}", report.n_patterns);
+        // the check means something: the two gammas give different bases
+        assert!(sizes[1] > sizes[0], "H = {harmonics}: gamma 1e4 gave no more columns than 1e2: {sizes:?}");
+    }
+}
+
+/// A bad `gamma` is refused before the prediction's eigen solves.
+#[test]
+fn prediction_refuses_a_bad_gamma() {
+    let blade = Blade::build();
+    let coords = ContactCoordinates::new(&blade.model, 1).unwrap();
+    for gamma in [0.5, f64::NAN, f64::INFINITY] {
+        let err = predict_basis(&coords, &PredictionOptions { gamma, ..PredictionOptions::new(band()) }).unwrap_err();
+        assert!(err.to_string().contains("gamma"), "{err}");
+    }
+}

@@ -21,7 +21,7 @@ pub use basis::{JpBasis, BasisOptions};
 pub use conditioning::{condition, ConditionedBasis};
 pub use modes::{jp_modes, jp_modes_on_reference, EigenSolver, JpModes, ModeOptions};
 pub use reference::ReferenceFactors;
-pub use prediction::{predict_basis, slipping_mode, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, SlippingSamples, Spacing};
+pub use prediction::{predict_basis, predict_modes, slipping_mode, PredictedModes, stuck_mode, GeneratingShape, PredictionOptions, PredictionReport, SlippingSamples, Spacing};
 
 
 use crate::aft::ContactForces;

@@ -444,11 +444,60 @@ fn sample_shape(
 }
 
 /// Predicts a JP basis (docs/formulation.md §8.7-8.8) without any full-order solution, with the
-/// harmonics `H` and AFT samples of `coords` ([`ContactCoordinates::discretisation`]).
+/// harmonics `H` and AFT samples of `coords` ([`ContactCoordinates::discretisation`]):
+/// [`predict_modes`], conditioned with `opts.gamma`.
 ///
 /// # Errors
 /// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
 pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
+    // a bad gamma is refused before the eigen solves, not after them
+    if !(opts.gamma.is_finite() && opts.gamma >= 1.0) {
+        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {}", opts.gamma)));
+    }
+    let (modes, report) = predict_modes(coords, opts)?;
+    Ok((modes.basis(opts.gamma)?, report))
+}
+
+/// The JP modes of every distinct contact pattern of a prediction, before the SVD conditioning
+/// (36)-(38): what [`predict_basis`] conditions with its `gamma`. Kept, they give the basis of
+/// any other `gamma` without a single eigen solve ([`PredictedModes::basis`]): the
+/// self-correcting sweep's `gamma` steps re-use the last prediction's modes this way.
+#[derive(Clone, Debug)]
+pub struct PredictedModes {
+    /// Per distinct pattern, in sampling order: the stuck (or given) shape's patterns first,
+    /// then the [`PredictedModes::slipping_patterns`] along the slipping mode.
+    pub modes: Vec<JpModes>,
+    pub slipping_patterns: usize,
+    pub n_w: usize,
+    pub band: (f64, f64),
+}
+
+impl PredictedModes {
+    /// The conditioned basis (38) with ratio `gamma`: the stacked modes conditioned by SVD, and
+    /// the slipping patterns' modes conditioned on their own and united with the others (on
+    /// one SVD the few slipping directions fall below the stuck ones' cut).
+    ///
+    /// # Errors
+    /// As [`JpBasis::from_modes`] and [`JpBasis::union`].
+    pub fn basis(&self, gamma: f64) -> Result<JpBasis> {
+        let stuck_count = self.modes.len() - self.slipping_patterns;
+        let basis = if self.slipping_patterns > 0 && stuck_count > 0 {
+            let stuck = JpBasis::from_modes(&self.modes[..stuck_count], gamma, self.n_w)?;
+            let slipping = JpBasis::from_modes(&self.modes[stuck_count..], gamma, self.n_w)?;
+            JpBasis { n_patterns: self.modes.len(), ..stuck.union(&slipping, gamma)? }
+        } else {
+            JpBasis::from_modes(&self.modes, gamma, self.n_w)?
+        };
+        Ok(basis.with_band(self.band))
+    }
+}
+
+/// The sampling and the per-pattern JP modes of [`predict_basis`], without the conditioning
+/// ([`PredictedModes::basis`]; `opts.gamma` is not used).
+///
+/// # Errors
+/// As [`predict_basis`].
+pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(PredictedModes, PredictionReport)> {
     let n = coords.n_dof;
     let nw = coords.n_w;
     let plan = &coords.discretisation.plan()?;
@@ -560,17 +609,7 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             in_parallel(at_once, &chosen, modes_of)?
         }
     };
-    // the slipping patterns' modes conditioned on their own, then united: stacked with the
-    // stuck ones under one SVD the few slipping directions fall below the stuck ones' cut
-    let stuck_count = chosen.len() - slipping_patterns;
-    let basis = if slipping_patterns > 0 && stuck_count > 0 {
-        let stuck = JpBasis::from_modes(&modes[..stuck_count], opts.gamma, nw)?;
-        let slipping = JpBasis::from_modes(&modes[stuck_count..], opts.gamma, nw)?;
-        JpBasis { n_patterns: chosen.len(), ..stuck.union(&slipping, opts.gamma)? }
-    } else {
-        JpBasis::from_modes(&modes, opts.gamma, nw)?
-    }
-    .with_band(opts.modes.band);
+    let predicted = PredictedModes { modes, slipping_patterns, n_w: nw, band: opts.modes.band };
     let report = PredictionReport {
         omega_stuck,
         p_min,
@@ -584,5 +623,5 @@ pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         active_coordinates,
         estimated_bytes,
     };
-    Ok((basis, report))
+    Ok((predicted, report))
 }

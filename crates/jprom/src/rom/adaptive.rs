@@ -12,7 +12,8 @@
 //! but `max_corrections` counts steps: a regeneration is one step, its union included (on the
 //! 50-contact blade at alpha_ST / 3000, four steps reach the threshold; counted one per sweep
 //! they ran out first). If a regeneration does not halve the worst `e*_1`, the next correction
-//! enlarges `gamma` instead (re-predicting along the last shape and uniting as well). A
+//! enlarges `gamma` instead (conditioning the last prediction's modes again with the larger
+//! `gamma`, which needs no eigen solve, and uniting as well). A
 //! correction after which the worst `e*_1` is larger is reported (its `worst_error_after` is
 //! above its `worst_error_before`) and dropped: the sweep goes on from the basis before it, so
 //! the result is the best basis found.
@@ -42,7 +43,7 @@ use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
 use crate::rom::error_metric::{linearised_errors, POOR_BASIS_THRESHOLD};
 use crate::hbm::{HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
-use crate::jp::{predict_basis, GeneratingShape, JpBasis, PredictionOptions, PredictionReport};
+use crate::jp::{predict_basis, predict_modes, GeneratingShape, JpBasis, PredictedModes, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
@@ -137,7 +138,8 @@ pub enum CorrectionKind {
     /// Modes predicted along the reduced solution at `from_omega` (the point of worst `e*_1`)
     /// and united with the basis.
     Regenerated { from_omega: f64 },
-    /// Modes re-predicted along the last shape with a larger `gamma` and united with the basis.
+    /// The last prediction's modes conditioned with a larger `gamma` (the same samples and
+    /// patterns: no eigen solve) and united with the basis.
     GammaIncreased { gamma: f64 },
     /// Modes predicted along the reduced solution at `from_omega`, alone, in place of the basis.
     Replaced { from_omega: f64 },
@@ -249,6 +251,31 @@ fn run_pass(
     Ok(Pass { sweep: sw, errors, checks, worst: worst.max(0.0), worst_at })
 }
 
+/// The modes of the last prediction of a self-correcting sweep and the options they were
+/// predicted with (its `gamma` aside).
+struct LastPrediction {
+    opts: PredictionOptions,
+    modes: PredictedModes,
+    report: PredictionReport,
+}
+
+/// The basis `opts` predicts: a `gamma` step along the shape of the last prediction conditions
+/// its modes again ([`PredictedModes::basis`]; the samples, patterns and modes would be the
+/// same), anything else is predicted and becomes the last prediction.
+fn predict(coords: &ContactCoordinates, opts: &PredictionOptions, last: &mut Option<LastPrediction>) -> Result<(JpBasis, PredictionReport)> {
+    let same_samples = |l: &LastPrediction| PredictionOptions { gamma: opts.gamma, ..l.opts.clone() } == *opts;
+    if let Some(l) = last.as_ref().filter(|l| same_samples(l)) {
+        return Ok((l.modes.basis(opts.gamma)?, l.report.clone()));
+    }
+    if !(opts.gamma.is_finite() && opts.gamma >= 1.0) {
+        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {}", opts.gamma)));
+    }
+    let (modes, report) = predict_modes(coords, opts)?;
+    let basis = modes.basis(opts.gamma)?;
+    *last = Some(LastPrediction { opts: opts.clone(), modes, report: report.clone() });
+    Ok((basis, report))
+}
+
 /// Largest entry of the part of a correction's basis outside the current basis' span below
 /// which the two are taken as one basis ([`JpBasis::spans_the_same`]; both orthonormal, so
 /// this bounds the sine of the largest principal angle per column).
@@ -337,6 +364,7 @@ pub fn adaptive_sweep_from(
     let checkable = checkable(coords);
     let check_with = if aopts.verify && checkable { condensed } else { None };
     let mut popts = pred.clone();
+    let mut last = None;
     let (mut basis, mut prediction) = initial;
     let mut rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
     let mut corrections = Vec::new();
@@ -350,7 +378,7 @@ pub fn adaptive_sweep_from(
                     return Err(e);
                 }
                 popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
-                let (fresh, r) = predict_basis(coords, &popts)?;
+                let (fresh, r) = predict(coords, &popts, &mut last)?;
                 basis = basis.union(&fresh, popts.gamma)?;
                 prediction = r;
                 rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
@@ -399,7 +427,7 @@ pub fn adaptive_sweep_from(
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);
             CorrectionKind::GammaIncreased { gamma: popts.gamma }
         };
-        let (fresh, r) = predict_basis(coords, &popts)?;
+        let (fresh, r) = predict(coords, &popts, &mut last)?;
         steps += 1;
         // The regenerated modes alone first: where they suffice, the basis keeps the size of one
         // prediction instead of growing by the union. Their sweep is reported as a correction
