@@ -15,15 +15,24 @@ pub struct ConditionedBasis {
     pub singular_values: Vec<f64>,
 }
 
+/// Refuses a conditioning ratio that is not finite and at least 1.
+///
+/// # Errors
+/// [`JpError::InvalidValue`].
+pub fn check_gamma(gamma: f64) -> Result<()> {
+    if !(gamma.is_finite() && gamma >= 1.0) {
+        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {gamma}")));
+    }
+    Ok(())
+}
+
 /// Conditions `phi` (37)-(38) with ratio `gamma >= 1`. An empty `phi` gives an empty basis.
 ///
 /// # Errors
 /// [`JpError::InvalidValue`] if `gamma < 1` or not finite, or `phi` has non-finite entries;
 /// [`JpError::Eigen`] if the SVD fails.
 pub fn condition(phi: &Mat<f64>, gamma: f64) -> Result<ConditionedBasis> {
-    if !(gamma.is_finite() && gamma >= 1.0) {
-        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {gamma}")));
-    }
+    check_gamma(gamma)?;
     let (n, m) = (phi.nrows(), phi.ncols());
     if m == 0 || n == 0 {
         return Ok(ConditionedBasis { basis: Mat::zeros(n, 0), singular_values: Vec::new() });

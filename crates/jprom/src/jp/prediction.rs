@@ -451,9 +451,7 @@ fn sample_shape(
 /// Bad options ([`JpError::InvalidValue`]); the static solve's and [`jp_modes`]' errors.
 pub fn predict_basis(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(JpBasis, PredictionReport)> {
     // a bad gamma is refused before the eigen solves, not after them
-    if !(opts.gamma.is_finite() && opts.gamma >= 1.0) {
-        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {}", opts.gamma)));
-    }
+    crate::jp::conditioning::check_gamma(opts.gamma)?;
     let (modes, report) = predict_modes(coords, opts)?;
     Ok((modes.basis(opts.gamma)?, report))
 }

@@ -267,9 +267,7 @@ fn predict(coords: &ContactCoordinates, opts: &PredictionOptions, last: &mut Opt
     if let Some(l) = last.as_ref().filter(|l| same_samples(l)) {
         return Ok((l.modes.basis(opts.gamma)?, l.report.clone()));
     }
-    if !(opts.gamma.is_finite() && opts.gamma >= 1.0) {
-        return Err(JpError::invalid("gamma", format!("must be finite and >= 1, got {}", opts.gamma)));
-    }
+    crate::jp::conditioning::check_gamma(opts.gamma)?;
     let (modes, report) = predict_modes(coords, opts)?;
     let basis = modes.basis(opts.gamma)?;
     *last = Some(LastPrediction { opts: opts.clone(), modes, report: report.clone() });
