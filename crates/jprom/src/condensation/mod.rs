@@ -14,6 +14,19 @@
 //!
 //! and `D_0 = K` (real) for the static term. The condensed system is exact for the linear
 //! DoFs: its HBM solution equals the full-order one on `w`.
+//!
+//! The continuation needs `dR/domega`, so `dH_h/domega` and `dg_h/domega`. With
+//! `D' = dD_h/domega = -2 h^2 omega M + i h C` (the loss factor's `i eta K` does not depend on
+//! omega), `D` symmetric, `Y = D_LL^-1 D_LN` and `u = D_LL^-1 f_L` (both already solved for
+//! `H_h` and `g_h`):
+//!
+//! ```text
+//! H_h' = D'_NN - D'_LN^T Y - Y^T D'_LN + Y^T D'_LL Y
+//! g_h' = - D'_LN^T u + Y^T D'_LL u
+//! ```
+//!
+//! which costs products only: no second factorisation, where a central difference of `H_h`
+//! costs two more ([`HarmonicSystem::linear_part_with_derivative_into`]).
 
 use crate::contact::Contacts;
 use crate::error::{JpError, Result};
@@ -56,6 +69,45 @@ fn block(c: &ContactCoordinates, omega: f64, h: usize, r0: usize, nr: usize, c0:
         let (a, b) = (r0 + i, c0 + j);
         c64::new(c.stiffness[(a, b)] - hw * hw * c.mass[(a, b)], c.dissipation(hw, a, b))
     })
+}
+
+/// `D_h' = dD_h/domega = -2 h^2 omega M + i h C` restricted like [`block`].
+fn d_block(c: &ContactCoordinates, omega: f64, h: usize, r0: usize, nr: usize, c0: usize, nc: usize) -> Mat<c64> {
+    let (hf, w) = (h as f64, omega);
+    Mat::from_fn(nr, nc, |i, j| {
+        let (a, b) = (r0 + i, c0 + j);
+        c64::new(-2.0 * hf * hf * w * c.mass[(a, b)], hf * c.damping[(a, b)])
+    })
+}
+
+/// The derivative of a condensation (module doc): `H' = D'_NN - T - T^T + Y^T D'_LL Y` and
+/// `g' = -D'_LN^T u + Y^T D'_LL u`, from `x = [Y u] = D_LL^-1 [D_LN f_L]`, `D'_NN` (`n x n`),
+/// `D'_LN` (`n_L x n`) and `D'_LL`. Returns (Re H', Im H', cos g', sin g') with the force
+/// convention `g = g_c - i g_s`.
+fn condensation_derivative(x: &Mat<c64>, dnn: &Mat<c64>, dln: &Mat<c64>, dll: &Mat<c64>) -> (Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>) {
+    let n = dnn.nrows();
+    // T1 = D'_LN^T [Y u], T3 = Y^T D'_LL [Y u]
+    let t1 = product(dln.transpose(), x.as_ref());
+    let w = product(dll.as_ref(), x.as_ref());
+    let t3 = product(x.as_ref().subcols(0, n).transpose(), w.as_ref());
+    let h = |i: usize, j: usize| dnn[(i, j)] - t1[(i, j)] - t1[(j, i)] + t3[(i, j)];
+    let re = Mat::from_fn(n, n, |i, j| h(i, j).re);
+    let im = Mat::from_fn(n, n, |i, j| h(i, j).im);
+    let g = |i: usize| t3[(i, n)] - t1[(i, n)];
+    (re, im, (0..n).map(|i| g(i).re).collect(), (0..n).map(|i| -g(i).im).collect())
+}
+
+/// A linear part's derivative with respect to omega: `D_0' = 0`, `f_0' = 0` (the static term
+/// does not depend on omega) and the harmonics' `(Re D_h', Im D_h', f_hc', f_hs')`.
+fn derivative_part(n0: usize, harmonics: Vec<(Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>)>) -> LinearPart {
+    let mut d = LinearPart { d0: Mat::<f64>::zeros(n0, n0).into(), f0: vec![0.0; n0], dh_re: Vec::new(), dh_im: Vec::new(), fh_cos: Vec::new(), fh_sin: Vec::new() };
+    for (re, im, gc, gs) in harmonics {
+        d.dh_re.push(re.into());
+        d.dh_im.push(im.into());
+        d.fh_cos.push(gc);
+        d.fh_sin.push(gs);
+    }
+    d
 }
 
 impl CondensedSystem {
@@ -120,10 +172,20 @@ impl CondensedSystem {
     /// [`JpError::InvalidValue`] for `omega <= 0` or `h > H`.
     #[allow(clippy::type_complexity)]
     pub fn condensed_harmonic(&self, omega: f64, h: usize) -> Result<(Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>)> {
+        Ok(self.condensed_harmonic_and_derivative(omega, h, false)?.0)
+    }
+
+    /// [`CondensedSystem::condensed_harmonic`] and, when asked, its derivative with respect to
+    /// omega in the same form (module doc; `h >= 1`), from the same factorisation.
+    ///
+    /// # Errors
+    /// As [`CondensedSystem::condensed_harmonic`].
+    #[allow(clippy::type_complexity)]
+    fn condensed_harmonic_and_derivative(&self, omega: f64, h: usize, derivative: bool) -> Result<((Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>), Option<(Mat<f64>, Mat<f64>, Vec<f64>, Vec<f64>)>)> {
         check_omega(omega)?;
         let nw = self.coords.n_w;
         if h == 0 {
-            return Ok((self.h0.clone(), Mat::zeros(nw, nw), self.g0.clone(), vec![0.0; nw]));
+            return Ok(((self.h0.clone(), Mat::zeros(nw, nw), self.g0.clone(), vec![0.0; nw]), None));
         }
         if h > self.layout.harmonics {
             return Err(JpError::invalid("harmonic", format!("{h} > H = {}", self.layout.harmonics)));
@@ -132,10 +194,12 @@ impl CondensedSystem {
         let nl = c.n_dof - nw;
         let (fc, fs) = &c.harmonic_force[h - 1];
         let d_nn = block(c, omega, h, 0, nw, 0, nw);
+        let d_nn_prime = derivative.then(|| d_block(c, omega, h, 0, nw, 0, nw));
         if nl == 0 {
             let re = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].re);
             let im = Mat::from_fn(nw, nw, |i, j| d_nn[(i, j)].im);
-            return Ok((re, im, fc[..nw].to_vec(), fs[..nw].to_vec()));
+            let d = d_nn_prime.map(|dp| (Mat::from_fn(nw, nw, |i, j| dp[(i, j)].re), Mat::from_fn(nw, nw, |i, j| dp[(i, j)].im), vec![0.0; nw], vec![0.0; nw]));
+            return Ok(((re, im, fc[..nw].to_vec(), fs[..nw].to_vec()), d));
         }
         let d_ll = block(c, omega, h, nw, nl, nw, nl);
         let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
@@ -151,7 +215,12 @@ impl CondensedSystem {
         // g = f_N - D_NL D_LL^-1 f_L with f = f_c - i f_s: cos = Re g, sin = -Im g.
         let gc = (0..nw).map(|i| fc[i] - prod[(i, nw)].re).collect();
         let gs = (0..nw).map(|i| fs[i] + prod[(i, nw)].im).collect();
-        Ok((re, im, gc, gs))
+        let d = d_nn_prime.map(|dnn| {
+            let dln = d_block(c, omega, h, nw, nl, 0, nw);
+            let dll = d_block(c, omega, h, nw, nl, nw, nl);
+            condensation_derivative(&x, &dnn, &dln, &dll)
+        });
+        Ok(((re, im, gc, gs), d))
     }
 
     /// Condensed dynamic stiffness `H_h(omega) = D_NN - D_NL D_LL^-1 D_LN` as (real,
@@ -215,14 +284,10 @@ impl CondensedSystem {
     }
 }
 
-impl HarmonicSystem for CondensedSystem {
-    fn layout(&self) -> &HarmonicLayout {
-        &self.layout
-    }
-    fn contacts(&self) -> Contacts<'_> {
-        self.coords.contacts()
-    }
-    fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+impl CondensedSystem {
+    /// The linear part at `omega` and, when asked, its derivative with respect to omega
+    /// (module doc).
+    fn linear_part_and_derivative(&self, omega: f64, derivative: bool) -> Result<(LinearPart, Option<LinearPart>)> {
         check_omega(omega)?;
         let mut lin = LinearPart {
             d0: self.h0.clone().into(),
@@ -232,14 +297,35 @@ impl HarmonicSystem for CondensedSystem {
             fh_cos: Vec::new(),
             fh_sin: Vec::new(),
         };
+        let mut harmonics = Vec::new();
         for h in 1..=self.layout.harmonics {
-            let (re, im, gc, gs) = self.condensed_harmonic(omega, h)?;
+            let ((re, im, gc, gs), d) = self.condensed_harmonic_and_derivative(omega, h, derivative)?;
             lin.dh_re.push(re.into());
             lin.dh_im.push(im.into());
             lin.fh_cos.push(gc);
             lin.fh_sin.push(gs);
+            harmonics.extend(d);
         }
-        Ok(lin)
+        let d = derivative.then(|| derivative_part(self.layout.size(0), harmonics));
+        Ok((lin, d))
+    }
+}
+
+impl HarmonicSystem for CondensedSystem {
+    fn layout(&self) -> &HarmonicLayout {
+        &self.layout
+    }
+    fn contacts(&self) -> Contacts<'_> {
+        self.coords.contacts()
+    }
+    fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        Ok(self.linear_part_and_derivative(omega, false)?.0)
+    }
+    fn linear_part_with_derivative_into(&self, omega: f64, out: &mut Option<LinearPart>, derivative: &mut Option<LinearPart>) -> Result<bool> {
+        let (lin, d) = self.linear_part_and_derivative(omega, true)?;
+        *out = Some(lin);
+        *derivative = d;
+        Ok(true)
     }
     fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
         if z.len() != self.layout.total() {
@@ -344,7 +430,17 @@ impl ProjectedCondensation {
     /// [`JpError::InvalidValue`] for `omega <= 0`; [`JpError::SingularMatrix`] if `D_LL` is
     /// singular at this frequency.
     pub fn linear_part(&self, omega: f64) -> Result<LinearPart> {
+        Ok(self.linear_part_and_derivative(omega, false)?.0)
+    }
+
+    /// [`ProjectedCondensation::linear_part`] and, when asked, its derivative with respect to
+    /// omega (the module doc's formulas on the projected blocks, from the same factorisation).
+    ///
+    /// # Errors
+    /// As [`ProjectedCondensation::linear_part`].
+    pub fn linear_part_and_derivative(&self, omega: f64, derivative: bool) -> Result<(LinearPart, Option<LinearPart>)> {
         check_omega(omega)?;
+        let mut harmonics = Vec::new();
         let mut lin = LinearPart {
             d0: self.d0.clone().into(),
             f0: self.f0.clone(),
@@ -363,7 +459,15 @@ impl ProjectedCondensation {
             let mut re = Mat::from_fn(nh, nh, |i, j| d(nn, i, j).re);
             let mut im = Mat::from_fn(nh, nh, |i, j| d(nn, i, j).im);
             let (mut gc, mut gs) = self.f_n[h - 1].clone();
-            if nl > 0 {
+            // D_h' = -2 h^2 omega M + i h C of stored blocks `a = [K, M, C]`
+            let hf = h as f64;
+            let dp = |a: &[Mat<f64>; 3], i: usize, j: usize| c64::new(-2.0 * hf * hf * omega * a[1][(i, j)], hf * a[2][(i, j)]);
+            let dnn = derivative.then(|| Mat::from_fn(nh, nh, |i, j| dp(nn, i, j)));
+            if nl == 0 {
+                if let Some(d) = &dnn {
+                    harmonics.push((Mat::from_fn(nh, nh, |i, j| d[(i, j)].re), Mat::from_fn(nh, nh, |i, j| d[(i, j)].im), vec![0.0; nh], vec![0.0; nh]));
+                }
+            } else {
                 let d_ll = Mat::from_fn(nl, nl, |i, j| d(&self.ll, i, j));
                 let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
                 let ln = &self.ln[h - 1];
@@ -386,12 +490,18 @@ impl ProjectedCondensation {
                     gc[i] -= prod[(i, nh)].re;
                     gs[i] += prod[(i, nh)].im;
                 }
+                if let Some(dnn) = dnn {
+                    let dln = Mat::from_fn(nl, nh, |i, j| dp(ln, i, j));
+                    let dll = Mat::from_fn(nl, nl, |i, j| dp(&self.ll, i, j));
+                    harmonics.push(condensation_derivative(&x, &dnn, &dln, &dll));
+                }
             }
             lin.dh_re.push(re.into());
             lin.dh_im.push(im.into());
             lin.fh_cos.push(gc);
             lin.fh_sin.push(gs);
         }
-        Ok(lin)
+        let d = derivative.then(|| derivative_part(self.d0.nrows(), harmonics));
+        Ok((lin, d))
     }
 }

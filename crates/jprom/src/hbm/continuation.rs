@@ -216,6 +216,8 @@ struct Corrector<'a> {
 #[derive(Default)]
 struct CorrectorBuffers {
     lin: Option<LinearPart>,
+    /// `dD/domega`, `df/domega` where the system has them in closed form
+    lin_derivative: Option<LinearPart>,
     jz: Option<Matrix>,
     r_omega: Vec<f64>,
     omega_derivative: OmegaDerivative,
@@ -244,8 +246,12 @@ impl<'a> Corrector<'a> {
         if !(omega.is_finite() && omega > 0.0) {
             return Err(JpError::invalid("continuation", format!("corrector left omega > 0 ({omega})")));
         }
-        let CorrectorBuffers { lin, jz, r_omega, omega_derivative, .. } = &mut self.buf;
-        self.system.linear_part_into(omega, lin)?;
+        let CorrectorBuffers { lin, lin_derivative, jz, r_omega, omega_derivative, .. } = &mut self.buf;
+        // dR/domega in closed form where the system has it, else by a central difference below
+        let closed_form = if want_jacobian { self.system.linear_part_with_derivative_into(omega, lin, lin_derivative)? } else {
+            self.system.linear_part_into(omega, lin)?;
+            false
+        };
         let lin = lin.as_ref().expect("set above");
         evaluate_into(self.system, lin, self.plan, &y[..n], want_jacobian, self.ws, r, jz)?;
         let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(lin, self.ws.contact_force_norm(), norm2(r)));
@@ -255,7 +261,10 @@ impl<'a> Corrector<'a> {
             return Err(JpError::invalid("continuation", "non-finite residual in the corrector"));
         }
         if want_jacobian {
-            omega_derivative.evaluate(self.system, omega, &y[..n], self.sopts.omega_difference * omega, r_omega)?;
+            match lin_derivative.as_ref().filter(|_| closed_form) {
+                Some(d) => linear_residual_into(self.system.layout(), d, &y[..n], r_omega),
+                None => omega_derivative.evaluate(self.system, omega, &y[..n], self.sopts.omega_difference * omega, r_omega)?,
+            }
             jz.as_mut().expect("jacobian requested").scale(s);
             r_omega.iter_mut().for_each(|v| *v *= s);
         }

@@ -115,6 +115,16 @@ pub trait HarmonicSystem: Sync {
         *out = Some(self.linear_part(omega)?);
         Ok(())
     }
+    /// The linear part at `omega` into `out` and, where the system has it in closed form, its
+    /// derivative with respect to omega into `derivative` (`D_0' = 0`, `f_0' = 0`; `D_h'`,
+    /// `f_h'` for `h >= 1`): then `true`, and the continuation's `dR/domega` is
+    /// `D' z - f'`. By default `false` and `derivative` untouched: the continuation differences
+    /// [`HarmonicSystem::linear_part`] at `omega +- delta`. The condensed systems give it
+    /// (docs/formulation.md §7), from the factorisation of their linear part at `omega`.
+    fn linear_part_with_derivative_into(&self, omega: f64, out: &mut Option<LinearPart>, _derivative: &mut Option<LinearPart>) -> Result<bool> {
+        self.linear_part_into(omega, out)?;
+        Ok(false)
+    }
     /// Physical response at the output DoFs, per harmonic coefficient: entry `k * n_out + j`
     /// (`k = 0`, `2h - 1`, `2h` as in [`crate::aft`]).
     fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>>;

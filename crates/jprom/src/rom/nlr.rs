@@ -121,6 +121,12 @@ impl HarmonicSystem for NlrRom {
     fn linear_part(&self, omega: f64) -> Result<LinearPart> {
         self.projected.linear_part(omega)
     }
+    fn linear_part_with_derivative_into(&self, omega: f64, out: &mut Option<LinearPart>, derivative: &mut Option<LinearPart>) -> Result<bool> {
+        let (lin, d) = self.projected.linear_part_and_derivative(omega, true)?;
+        *out = Some(lin);
+        *derivative = d;
+        Ok(true)
+    }
     fn output_harmonics(&self, omega: f64, z: &[f64]) -> Result<Vec<f64>> {
         let q = self.condensed_unknowns(z)?;
         self.condensed.output_harmonics(omega, &q)
