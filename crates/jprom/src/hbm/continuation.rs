@@ -7,7 +7,9 @@
 //!   bordered system `[J_z  R_omega; (S t_prev)^T] t = [0; 1]`, normalised to unit length. The
 //!   last row orients `t` along the previous tangent (`t_prev^T S t > 0`), so the direction of
 //!   travel never reverses on its own, also through folds, where `J_z` is singular.
-//!   `dR/domega = (D(omega + delta) - D(omega - delta)) z / (2 delta) - (f(+) - f(-)) / (2 delta)`
+//!   `dR/domega = D' z - f'` in closed form where the system gives it
+//!   ([`HarmonicSystem::linear_part_with_derivative_into`]: the condensed systems), else
+//!   `(D(omega + delta) - D(omega - delta)) z / (2 delta) - (f(+) - f(-)) / (2 delta)`
 //!   by a central difference of [`HarmonicSystem::linear_part`] (`delta = omega_difference *
 //!   omega`); contact forces do not depend on `omega` (rate-independent friction). For the full
 //!   system `D` is quadratic in `omega`, so the difference is exact up to rounding.
