@@ -114,3 +114,23 @@ fn residual_omega_derivative_in_closed_form_on_the_blade() {
         }
     }
 }
+
+/// `CondensedSystem::linear_residual_parts` (one right-hand side per harmonic, NLR's `f*_C`)
+/// equals `H_h q_h - g_h` from the condensed linear part, H = 1 and 3, with a loss factor.
+#[test]
+fn linear_residual_parts_equal_the_condensed_linear_part_times_q() {
+    for (harmonics, eta) in [(1usize, 0.0), (3, 0.02)] {
+        let model = with_loss_factor(chain_model(&ChainOptions { n_nodes: 10, ..Default::default() }), eta);
+        let cond = CondensedSystem::new(&model, harmonics).unwrap();
+        let mut rng = StdRng::seed_from_u64(17);
+        let q: Vec<f64> = (0..cond.layout().total()).map(|_| rng.gen_range(-1.0..1.0)).collect();
+        for omega in [0.3, 1.1, 2.7] {
+            let parts = cond.linear_residual_parts(omega, &q).unwrap();
+            let whole = linear_residual(cond.layout(), &cond.linear_part(omega).unwrap(), &q);
+            let joined: Vec<f64> = parts.concat();
+            let e = relv(&joined, &whole);
+            assert!(e < 1e-12, "H = {harmonics}, omega {omega}: {e:.2e}");
+        }
+        assert!(cond.linear_residual_parts(1.0, &q[1..]).is_err());
+    }
+}

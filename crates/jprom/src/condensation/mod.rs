@@ -223,6 +223,57 @@ impl CondensedSystem {
         Ok(((re, im, gc, gs), d))
     }
 
+    /// `H_h q_h - g_h` of the condensed unknowns `q` (harmonic-major, `(2H + 1) n_w`) per
+    /// harmonic coefficient (`0`, then cos and sin of each `h`), without forming `H_h`:
+    /// `D_NN q - f_N - D_NL D_LL^-1 (D_LN q - f_L)`, one factorisation of `D_LL` and one
+    /// right-hand side per harmonic (the condensed linear part would solve `n_w + 1`). The NLR
+    /// error predictor's `f*_C` (docs/formulation.md §10).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] for a wrong length of `q`; as [`CondensedSystem::condensed_harmonic`].
+    pub fn linear_residual_parts(&self, omega: f64, q: &[f64]) -> Result<Vec<Vec<f64>>> {
+        check_omega(omega)?;
+        let c = &self.coords;
+        let (n, nw) = (c.n_dof, c.n_w);
+        let nl = n - nw;
+        let hh = self.layout.harmonics;
+        if q.len() != (2 * hh + 1) * nw {
+            return Err(JpError::bad_size("condensed unknowns", (2 * hh + 1) * nw, q.len()));
+        }
+        let mut out = Vec::with_capacity(2 * hh + 1);
+        let h0q = product(self.h0.as_ref(), Mat::from_fn(nw, 1, |i, _| q[i]).as_ref());
+        out.push((0..nw).map(|i| h0q[(i, 0)] - self.g0[i]).collect());
+        for h in 1..=hh {
+            let (fc, fs) = &c.harmonic_force[h - 1];
+            // complex q_N = q_c - i q_s, f = f_c - i f_s (module doc's convention)
+            let qn = Mat::from_fn(nw, 1, |i, _| c64::new(q[(2 * h - 1) * nw + i], -q[2 * h * nw + i]));
+            let d_nn = block(c, omega, h, 0, nw, 0, nw);
+            let mut r = product(d_nn.as_ref(), qn.as_ref());
+            for i in 0..nw {
+                r[(i, 0)] -= c64::new(fc[i], -fs[i]);
+            }
+            if nl > 0 {
+                let d_ll = block(c, omega, h, nw, nl, nw, nl);
+                let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
+                let d_ln = block(c, omega, h, nw, nl, 0, nw);
+                let mut rhs = product(d_ln.as_ref(), qn.as_ref());
+                for i in 0..nl {
+                    rhs[(i, 0)] -= c64::new(fc[nw + i], -fs[nw + i]);
+                }
+                let x = lu.solve(&rhs);
+                let d_nl = block(c, omega, h, 0, nw, nw, nl);
+                let corr = product(d_nl.as_ref(), x.as_ref());
+                for i in 0..nw {
+                    r[(i, 0)] -= corr[(i, 0)];
+                }
+            }
+            // r = r_c - i r_s
+            out.push((0..nw).map(|i| r[(i, 0)].re).collect());
+            out.push((0..nw).map(|i| -r[(i, 0)].im).collect());
+        }
+        Ok(out)
+    }
+
     /// Condensed dynamic stiffness `H_h(omega) = D_NN - D_NL D_LL^-1 D_LN` as (real,
     /// imaginary) parts; for the JP NLR model (docs/formulation.md §9).
     ///

@@ -143,23 +143,7 @@ impl ReducedModel for NlrRom {
     /// `f*_C^h = H_h Φ_N,h s_h - g_h` on the contact coordinates (the NLR form of (40)).
     fn implied_contact_force(&self, omega: f64, z: &[f64]) -> Result<Vec<Vec<f64>>> {
         let q = self.condensed_unknowns(z)?;
-        let nw = self.full_size();
-        let full = self.condensed.linear_part(omega)?;
-        let mut out = Vec::with_capacity(2 * self.layout.harmonics + 1);
-        let mut f0 = full.d0.mat_vec(&q[..nw]);
-        for (f, g) in f0.iter_mut().zip(&full.f0) {
-            *f -= g;
-        }
-        out.push(f0);
-        for h in 1..=self.layout.harmonics {
-            let (qc, qs) = (&q[(2 * h - 1) * nw..2 * h * nw], &q[2 * h * nw..(2 * h + 1) * nw]);
-            let (re, im) = (&full.dh_re[h - 1], &full.dh_im[h - 1]);
-            let (rc, is) = (re.mat_vec(qc), im.mat_vec(qs));
-            let (ic, rs) = (im.mat_vec(qc), re.mat_vec(qs));
-            out.push((0..nw).map(|i| rc[i] + is[i] - full.fh_cos[h - 1][i]).collect());
-            out.push((0..nw).map(|i| -ic[i] + rs[i] - full.fh_sin[h - 1][i]).collect());
-        }
-        Ok(out)
+        self.condensed.linear_residual_parts(omega, &q)
     }
     /// All z-coordinates, recovered through the condensation (13).
     fn full_coefficients(&self, omega: f64, z: &[f64]) -> Result<Vec<Vec<f64>>> {
