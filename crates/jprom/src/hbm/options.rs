@@ -95,7 +95,10 @@ pub struct SweepOptions {
     /// Corrector iterations aimed at: the next step is scaled by `target / used`, clamped to
     /// `[0.5, 2]` (default 4).
     pub target_iterations: usize,
-    /// Relative frequency increment of the central difference `dR/domega` (default 1e-6).
+    /// Relative frequency increment of the central difference `dR/domega` (default 1e-6), for
+    /// systems without its closed form
+    /// ([`crate::hbm::HarmonicSystem::linear_part_with_derivative_into`]; the condensed systems
+    /// have it and do not use this).
     pub omega_difference: f64,
 }
 
