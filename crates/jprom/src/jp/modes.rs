@@ -32,7 +32,7 @@
 use super::condensed::condensed_stiffness;
 use super::reference::{active_pattern_working_set_bytes, active_statics, ActivePart, ReferenceFactors};
 use super::shift_invert::{problem_eigenpairs, CondensedProblem, ShiftedFactorisation, ShiftedSolve};
-pub use super::mode_selection::{EigenSolver, ModeOptions, AUTO_DENSE_MAX};
+pub use super::mode_selection::{EigenSolver, ModeOptions, AUTO_DENSE_MAX, AUTO_SHIFT_INVERT_MIN, AUTO_SHIFT_INVERT_REQUEST};
 use super::{col_norm, lu_solve, stack_columns, ContactJacobian};
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
@@ -143,7 +143,20 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     };
 
     let eig = match kjc {
-        Some(kjc) if solver != EigenSolver::ShiftInvert => dense_eigenpairs(coords, kjc, hh, opts)?,
+        Some(kjc) if solver != EigenSolver::ShiftInvert => {
+            // Auto on a problem small enough for the dense solve: a bounded shift-invert
+            // attempt first, the dense solve where the band holds more modes than it finds
+            // or where it fails (AUTO_SHIFT_INVERT_REQUEST).
+            let tried = if opts.solver == EigenSolver::Auto && 2 * hh * n >= AUTO_SHIFT_INVERT_MIN {
+                super::shift_invert::shift_invert_eigenpairs_upto(coords, k_hat, &g_ww, opts, AUTO_SHIFT_INVERT_REQUEST).ok().flatten()
+            } else {
+                None
+            };
+            match tried {
+                Some(eig) => eig,
+                None => dense_eigenpairs(coords, kjc, hh, opts)?,
+            }
+        }
         _ => super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?,
     };
     Ok(assemble(coords, hh, eig, &corrections, &statics, &coupling, k_hat.k_hat.norm_max()))

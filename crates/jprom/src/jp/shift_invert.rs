@@ -673,6 +673,22 @@ pub fn shift_invert_eigenpairs_with(
 /// # Errors
 /// As [`shift_invert_eigenpairs`].
 pub fn problem_eigenpairs(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation) -> Result<Eigenpairs> {
+    let dim = problem.dim();
+    problem_eigenpairs_upto(problem, opts, how, dim)?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
+}
+
+/// [`shift_invert_eigenpairs`] that requests at most `max_request` eigenpairs: `None` when the
+/// band and its extra pairs need more (a band holding many modes), where the caller solves
+/// densely instead ([`crate::jp::EigenSolver::Auto`] on small problems).
+///
+/// # Errors
+/// As [`shift_invert_eigenpairs`].
+pub fn shift_invert_eigenpairs_upto(coords: &ContactCoordinates, k_hat: &ContactJacobian, g_ww: &Mat<f64>, opts: &ModeOptions, max_request: usize) -> Result<Option<Eigenpairs>> {
+    let problem = CondensedProblem::new(coords, k_hat, g_ww)?;
+    problem_eigenpairs_upto(&problem, opts, ShiftedFactorisation::Auto, max_request)
+}
+
+fn problem_eigenpairs_upto(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation, max_request: usize) -> Result<Option<Eigenpairs>> {
     let (lo, hi) = opts.band;
     let dim = problem.dim();
     let centre = 0.5 * (lo + hi);
@@ -745,6 +761,9 @@ pub fn problem_eigenpairs(problem: &CondensedProblem<'_>, opts: &ModeOptions, ho
         if covered || all_found {
             break (pairs, keep);
         }
+        if 2 * k > max_request && max_request < dim {
+            return Ok(None);
+        }
         if attempt >= MAX_DOUBLINGS || k >= dim {
             return Err(JpError::Eigen {
                 what: format!(
@@ -776,5 +795,5 @@ pub fn problem_eigenpairs(problem: &CondensedProblem<'_>, opts: &ModeOptions, ho
         }
         eigenvalues.push((p.lambda.re, p.lambda.im));
     }
-    Ok((eigenvalues, v_re, v_im))
+    Ok(Some((eigenvalues, v_re, v_im)))
 }
