@@ -224,18 +224,17 @@ impl CondensedSystem {
     }
 
     /// `H_h q_h - g_h` of the condensed unknowns `q` (harmonic-major, `(2H + 1) n_w`) per
-    /// harmonic coefficient (`0`, then cos and sin of each `h`), without forming `H_h`:
-    /// `D_NN q - f_N - D_NL D_LL^-1 (D_LN q - f_L)`, one factorisation of `D_LL` and one
-    /// right-hand side per harmonic (the condensed linear part would solve `n_w + 1`). The NLR
-    /// error predictor's `f*_C` (docs/formulation.md §10).
+    /// harmonic coefficient (`0`, then cos and sin of each `h`), without forming `H_h`: with
+    /// the linear coordinates recovered by (13) ([`CondensedSystem::recover`], one right-hand
+    /// side per harmonic), `H_h q_N - g_h = D_NN q_N + D_NL q_L - f_N` (the condensed linear part
+    /// would solve `n_w + 1`). The NLR error predictor's `f*_C` (docs/formulation.md §10).
     ///
     /// # Errors
-    /// [`JpError::BadSize`] for a wrong length of `q`; as [`CondensedSystem::condensed_harmonic`].
+    /// [`JpError::BadSize`] for a wrong length of `q`; as [`CondensedSystem::recover`].
     pub fn linear_residual_parts(&self, omega: f64, q: &[f64]) -> Result<Vec<Vec<f64>>> {
         check_omega(omega)?;
         let c = &self.coords;
         let (n, nw) = (c.n_dof, c.n_w);
-        let nl = n - nw;
         let hh = self.layout.harmonics;
         if q.len() != (2 * hh + 1) * nw {
             return Err(JpError::bad_size("condensed unknowns", (2 * hh + 1) * nw, q.len()));
@@ -245,31 +244,12 @@ impl CondensedSystem {
         out.push((0..nw).map(|i| h0q[(i, 0)] - self.g0[i]).collect());
         for h in 1..=hh {
             let (fc, fs) = &c.harmonic_force[h - 1];
-            // complex q_N = q_c - i q_s, f = f_c - i f_s (module doc's convention)
-            let qn = Mat::from_fn(nw, 1, |i, _| c64::new(q[(2 * h - 1) * nw + i], -q[2 * h * nw + i]));
-            let d_nn = block(c, omega, h, 0, nw, 0, nw);
-            let mut r = product(d_nn.as_ref(), qn.as_ref());
-            for i in 0..nw {
-                r[(i, 0)] -= c64::new(fc[i], -fs[i]);
-            }
-            if nl > 0 {
-                let d_ll = block(c, omega, h, nw, nl, nw, nl);
-                let lu = lu_checked(&d_ll, &format!("D_LL of harmonic {h} at omega = {omega}"))?;
-                let d_ln = block(c, omega, h, nw, nl, 0, nw);
-                let mut rhs = product(d_ln.as_ref(), qn.as_ref());
-                for i in 0..nl {
-                    rhs[(i, 0)] -= c64::new(fc[nw + i], -fs[nw + i]);
-                }
-                let x = lu.solve(&rhs);
-                let d_nl = block(c, omega, h, 0, nw, nw, nl);
-                let corr = product(d_nl.as_ref(), x.as_ref());
-                for i in 0..nw {
-                    r[(i, 0)] -= corr[(i, 0)];
-                }
-            }
-            // r = r_c - i r_s
-            out.push((0..nw).map(|i| r[(i, 0)].re).collect());
-            out.push((0..nw).map(|i| -r[(i, 0)].im).collect());
+            let (full_c, full_s) = self.recover(omega, h, &q[(2 * h - 1) * nw..2 * h * nw], &q[2 * h * nw..(2 * h + 1) * nw])?;
+            // complex z = z_c - i z_s, f = f_c - i f_s (module doc's convention); r = r_c - i r_s
+            let z = Mat::from_fn(n, 1, |i, _| c64::new(full_c[i], -full_s[i]));
+            let r = product(block(c, omega, h, 0, nw, 0, n).as_ref(), z.as_ref());
+            out.push((0..nw).map(|i| r[(i, 0)].re - fc[i]).collect());
+            out.push((0..nw).map(|i| -r[(i, 0)].im - fs[i]).collect());
         }
         Ok(out)
     }
