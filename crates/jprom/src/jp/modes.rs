@@ -130,7 +130,10 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
     // (30): the dense K_JC is needed by the dense eigen solve and by the static correction;
     // the shift-invert path works from K̂ and A_0^-1|_ww alone.
     let solver = opts.solver.resolve(2 * hh * n);
-    let kjc = if solver != EigenSolver::ShiftInvert || opts.static_correction { Some(condensed_stiffness(coords, k_hat, &g_ww)) } else { None };
+    // Auto on a problem small enough for the dense solve: a bounded shift-invert attempt first
+    // (AUTO_SHIFT_INVERT_REQUEST), which needs K_JC only if it fails
+    let attempt = solver != EigenSolver::ShiftInvert && opts.solver == EigenSolver::Auto && 2 * hh * n >= AUTO_SHIFT_INVERT_MIN;
+    let kjc = if (solver != EigenSolver::ShiftInvert && !attempt) || opts.static_correction { Some(condensed_stiffness(coords, k_hat, &g_ww)) } else { None };
 
     // A singular K_JC (a structure free in some direction once its contacts slip) has no
     // static correction; the eigenvectors alone then make the basis.
@@ -142,22 +145,15 @@ pub fn jp_modes(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &Mod
         _ => Vec::new(),
     };
 
-    let eig = match kjc {
-        Some(kjc) if solver != EigenSolver::ShiftInvert => {
-            // Auto on a problem small enough for the dense solve: a bounded shift-invert
-            // attempt first, the dense solve where the band holds more modes than it finds
-            // or where it fails (AUTO_SHIFT_INVERT_REQUEST).
-            let tried = if opts.solver == EigenSolver::Auto && 2 * hh * n >= AUTO_SHIFT_INVERT_MIN {
-                super::shift_invert::shift_invert_eigenpairs_upto(coords, k_hat, &g_ww, opts, AUTO_SHIFT_INVERT_REQUEST).ok().flatten()
-            } else {
-                None
-            };
-            match tried {
-                Some(eig) => eig,
-                None => dense_eigenpairs(coords, kjc, hh, opts)?,
-            }
+    let eig = if solver == EigenSolver::ShiftInvert {
+        super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?
+    } else {
+        // the dense solve where the attempt finds fewer modes than the band holds, or fails
+        let tried = if attempt { super::shift_invert::shift_invert_eigenpairs_upto(coords, k_hat, &g_ww, opts, AUTO_SHIFT_INVERT_REQUEST).ok().flatten() } else { None };
+        match tried {
+            Some(eig) => eig,
+            None => dense_eigenpairs(coords, kjc.unwrap_or_else(|| condensed_stiffness(coords, k_hat, &g_ww)), hh, opts)?,
         }
-        _ => super::shift_invert::shift_invert_eigenpairs(coords, k_hat, &g_ww, opts)?,
     };
     Ok(assemble(coords, hh, eig, &corrections, &statics, &coupling, k_hat.k_hat.norm_max()))
 }
