@@ -19,7 +19,7 @@
 //! [`super::eigen::lowest_modes`]. No `n x n` dense block is ever formed.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
-use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, SparseMat};
+use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_t, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat};
@@ -167,7 +167,7 @@ impl CraigBampton {
                 let mut red = Mat::<f64>::zeros(nr, nr);
                 red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&sparse_dense_block(a, &b_map, nb, boundary));
                 let a_ii = m_ii.take().unwrap_or_else(|| sparse_submatrix(a, &i_map, ni, &interior));
-                MassLike { a_ii, a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
+                MassLike { a_ii_t: sparse_transpose(&a_ii), a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
             })
             .collect();
 
@@ -208,38 +208,17 @@ impl CraigBampton {
                     psi
                 }
             };
-            faer::sparse::linalg::matmul::sparse_dense_matmul(
-                k_red.as_mut().submatrix_mut(0, start, nb, w),
-                Accum::Add,
-                k_ib.as_ref().transpose(),
-                psi.as_ref(),
-                1.0,
-                par,
-            );
+            spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &k_ib, psi.as_ref(), 1.0);
             for a in projected.iter_mut() {
                 let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
-                faer::sparse::linalg::matmul::sparse_dense_matmul(x.as_mut(), Accum::Add, a.a_ii.as_ref(), psi.as_ref(), 1.0, par);
-                faer::sparse::linalg::matmul::sparse_dense_matmul(
-                    a.red.as_mut().submatrix_mut(0, start, nb, w),
-                    Accum::Add,
-                    a.a_ib.as_ref().transpose(),
-                    psi.as_ref(),
-                    1.0,
-                    par,
-                );
+                spmm_t(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
+                spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
                 matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
                 match &psi_all {
                     Some(all) => matmul(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
                     None => {
                         chol.solve_in_place(x.as_mut());
-                        faer::sparse::linalg::matmul::sparse_dense_matmul(
-                            a.red.as_mut().submatrix_mut(0, start, nb, w),
-                            Accum::Add,
-                            k_ib.as_ref().transpose(),
-                            x.as_ref(),
-                            -1.0,
-                            par,
-                        );
+                        spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &k_ib, x.as_ref(), -1.0);
                     }
                 }
             }
@@ -249,7 +228,7 @@ impl CraigBampton {
         drop(chol);
         for a in projected.iter_mut() {
             let mut aphi = Mat::<f64>::zeros(ni, n_modes);
-            faer::sparse::linalg::matmul::sparse_dense_matmul(aphi.as_mut(), Accum::Replace, a.a_ii.as_ref(), phi.as_ref(), 1.0, par);
+            spmm_t(aphi.as_mut(), Accum::Replace, &a.a_ii_t, phi.as_ref(), 1.0);
             matmul(a.red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes), Accum::Replace, phi.as_ref().transpose(), aphi.as_ref(), 1.0, par);
             // mode-boundary blocks: copy the lower block up, then symmetrise
             for j in nb..nr {
@@ -364,7 +343,8 @@ fn fixed_interface_modes(chol: &SparseCholesky, m_ii: &SparseMat, cap: usize, cu
 
 /// A matrix projected the way `M` is: its interior and interior-boundary blocks, and `T^T A T`.
 struct MassLike {
-    a_ii: SparseMat,
+    /// `A_ii^T` (products `A_ii X` by [`spmm_t`]).
+    a_ii_t: SparseMat,
     a_ib: SparseMat,
     red: Mat<f64>,
 }

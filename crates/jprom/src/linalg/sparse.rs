@@ -127,6 +127,79 @@ pub(crate) fn spmm(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<
     faer::sparse::linalg::matmul::sparse_dense_matmul(out, accum, a.as_ref(), x, alpha, faer::get_global_parallelism());
 }
 
+/// The transpose of a CSC matrix, as a CSC matrix (`O(nnz)`).
+pub(crate) fn sparse_transpose(a: &SparseMat) -> SparseMat {
+    let a = a.as_ref();
+    let (m, n) = (a.nrows(), a.ncols());
+    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let mut col_ptr = vec![0usize; m + 1];
+    for &i in ri {
+        col_ptr[i + 1] += 1;
+    }
+    for i in 0..m {
+        col_ptr[i + 1] += col_ptr[i];
+    }
+    let mut next = col_ptr.clone();
+    let mut row_idx = vec![0usize; ri.len()];
+    let mut val = vec![0.0; ri.len()];
+    // Columns in ascending order: each transposed column's rows come out sorted.
+    for j in 0..n {
+        for k in cp[j]..cp[j + 1] {
+            let p = next[ri[k]];
+            row_idx[p] = j;
+            val[p] = v[k];
+            next[ri[k]] += 1;
+        }
+    }
+    SparseColMat::new(SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx), val)
+}
+
+/// Columns of `X` that [`spmm_t`] gathers at a time (per thread).
+const GATHER_WIDTH: usize = 64;
+
+/// `out (+)= alpha * A^T X` for sparse `A` (`k x m`) and dense `X` (`k x w`) with many columns:
+/// row `j` of the product is `sum_i a_ij X[i, :]` over column `j` of `A`, gathered from the
+/// rows of `X` laid out contiguously (`X^T` in blocks of [`GATHER_WIDTH`] columns, the blocks
+/// shared among the threads). faer's sparse-dense product scatters one column of `X` at a time
+/// with scalar updates; this form is vectorised along the rows of `X`. For `A X` pass
+/// [`sparse_transpose`]`(A)` (the Craig-Bampton blocks: `M_ii Psi_B` with 256 columns, 4.6x
+/// faster than faer's on the refinement-5 blade).
+pub(crate) fn spmm_t(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
+    let a = a.as_ref();
+    let (k, m, w) = (a.nrows(), a.ncols(), x.ncols());
+    assert!(x.nrows() == k && out.nrows() == m && out.ncols() == w, "spmm_t: A is {k} x {m}, X {} x {w}, out {} x {}", x.nrows(), out.nrows(), out.ncols());
+    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let block = |c0: usize| -> Mat<f64> {
+        let cw = GATHER_WIDTH.min(w - c0);
+        let xt = x.subcols(c0, cw).transpose().to_owned();
+        let mut yt = Mat::<f64>::zeros(cw, m);
+        for j in 0..m {
+            let yj = yt.col_as_slice_mut(j);
+            for p in cp[j]..cp[j + 1] {
+                let s = v[p];
+                for (y, xi) in yj.iter_mut().zip(xt.col_as_slice(ri[p])) {
+                    *y += s * xi;
+                }
+            }
+        }
+        yt
+    };
+    let starts: Vec<usize> = (0..w).step_by(GATHER_WIDTH).collect();
+    let blocks: Vec<Mat<f64>> = if starts.len() > 1 && faer::get_global_parallelism() != faer::Par::Seq {
+        use rayon::prelude::*;
+        starts.par_iter().map(|&c0| block(c0)).collect()
+    } else {
+        starts.iter().map(|&c0| block(c0)).collect()
+    };
+    for (&c0, yt) in starts.iter().zip(&blocks) {
+        let mut o = out.as_mut().subcols_mut(c0, yt.nrows());
+        match accum {
+            Accum::Replace => o.copy_from(yt.transpose() * faer::Scale(alpha)),
+            Accum::Add => o += yt.transpose() * faer::Scale(alpha),
+        }
+    }
+}
+
 /// `y = A x` for sparse `A` and a vector.
 pub fn sparse_matvec(a: &SparseMat, x: &[f64]) -> Vec<f64> {
     let a = a.as_ref();
@@ -163,4 +236,48 @@ pub fn first_asymmetry(a: &SparseMat, rel_tol: f64) -> Option<(usize, usize, f64
         let a_ji = (cp[j]..cp[j + 1]).find(|&k| ri[k] == i).map_or(0.0, |k| v[k]);
         ((a_ij - a_ji).abs() > tol).then_some((i, j, a_ij, a_ji))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A random-ish sparse `k x m` matrix with empty columns and rows.
+    fn sample(k: usize, m: usize) -> SparseMat {
+        let mut t = Vec::new();
+        for j in 0..m {
+            if j % 7 == 3 {
+                continue;
+            }
+            for i in 0..k {
+                if (i * 31 + j * 17) % 5 == 0 && i % 11 != 4 {
+                    t.push((i, j, ((i * 13 + j * 7) % 19) as f64 - 9.0));
+                }
+            }
+        }
+        sparse_from_triplets(k, m, t).unwrap()
+    }
+
+    #[test]
+    fn spmm_t_equals_the_dense_product() {
+        let (k, m) = (57, 41);
+        let a = sample(k, m);
+        let ad = sparse_to_dense(&a);
+        for w in [1, 63, 64, 65, 150] {
+            let x = Mat::from_fn(k, w, |i, j| ((i * 3 + j * 5) % 23) as f64 - 11.0);
+            let y0 = Mat::from_fn(m, w, |i, j| (i + 2 * j) as f64);
+            let mut y = y0.clone();
+            spmm_t(y.as_mut(), Accum::Add, &a, x.as_ref(), -0.5);
+            let want = &y0 + ad.transpose() * &x * faer::Scale(-0.5);
+            assert!((&y - &want).norm_max() <= 1e-12 * want.norm_max(), "w = {w}");
+            // A X through the transpose.
+            let at = sparse_transpose(&a);
+            assert_eq!(sparse_to_dense(&at), ad.transpose().to_owned());
+            let xm = Mat::from_fn(m, w, |i, j| ((i * 7 + j) % 13) as f64);
+            let mut z = Mat::<f64>::zeros(k, w);
+            spmm_t(z.as_mut(), Accum::Replace, &at, xm.as_ref(), 2.0);
+            let want = &ad * &xm * faer::Scale(2.0);
+            assert!((&z - &want).norm_max() <= 1e-12 * want.norm_max(), "w = {w}");
+        }
+    }
 }
