@@ -20,6 +20,11 @@
 //! (33) were weighted per eigenspace: sizes [21, 8], e*_1 0.039; the factorisations, which make
 //! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
 //! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
+//! After 81229ce (the Craig-Bampton's sparse-dense products by a gather kernel, its
+//! multi-column solves split among the threads), CB 203 s at 4.2 GB (quiet machine, two
+//! cores: factor 6 s, 50 modes 31 s, constraint-mode solves 60 s, second solves 59 s,
+//! sparse-dense products 37 s); the same call on the refinement-8 blade (61,404 DoFs) 68 ->
+//! 30 s, refinement 5 19.6 -> 9.9 s.
 //!
 //! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
 //! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):
