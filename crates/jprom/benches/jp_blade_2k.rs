@@ -24,7 +24,10 @@
 //! multi-column solves split among the threads), CB 203 s at 4.2 GB (quiet machine, two
 //! cores: factor 6 s, 50 modes 31 s, constraint-mode solves 60 s, second solves 59 s,
 //! sparse-dense products 37 s); the same call on the refinement-8 blade (61,404 DoFs) 68 ->
-//! 30 s, refinement 5 19.6 -> 9.9 s.
+//! 30 s, refinement 5 19.6 -> 9.9 s. With the dependencies built without their debug
+//! assertions (as in this bench's release profile) and four entries per pass of the gather
+//! kernel: CB 138 s at 4.2 GB, refinement 8 21.7 s, refinement 5 7.5 s (the probe runs in the
+//! test profile).
 //!
 //! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
 //! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):

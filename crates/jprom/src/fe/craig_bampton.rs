@@ -20,7 +20,7 @@
 //! sparse blocks with the dense `n_i x BLOCK` columns gather along contiguous rows
 //! ([`crate::linalg::sparse::spmm_t`]), and each block's solve splits its columns among the
 //! threads ([`SparseCholesky::solve_in_place`]): on the refinement-15 blade (140,658 DoFs,
-//! 5,793 boundary DoFs, 50 modes) 203 s where faer's product and solve took 573 s.
+//! 5,793 boundary DoFs, 50 modes) 138 s where faer's product and solve took 573 s.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
 use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_t, SparseMat};

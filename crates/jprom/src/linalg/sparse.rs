@@ -174,10 +174,23 @@ pub(crate) fn spmm_t(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: M
         let xt = x.subcols(c0, cw).transpose().to_owned();
         let mut yt = Mat::<f64>::zeros(cw, m);
         for j in 0..m {
-            let yj = yt.col_as_slice_mut(j);
-            for p in cp[j]..cp[j + 1] {
-                let s = v[p];
-                for (y, xi) in yj.iter_mut().zip(xt.col_as_slice(ri[p])) {
+            let yj = &mut yt.col_as_slice_mut(j)[..cw];
+            let (mut p, end) = (cp[j], cp[j + 1]);
+            // Four entries at a time: one load and store of the output row per four.
+            while p + 4 <= end {
+                let (s0, s1, s2, s3) = (v[p], v[p + 1], v[p + 2], v[p + 3]);
+                let x0 = &xt.col_as_slice(ri[p])[..cw];
+                let x1 = &xt.col_as_slice(ri[p + 1])[..cw];
+                let x2 = &xt.col_as_slice(ri[p + 2])[..cw];
+                let x3 = &xt.col_as_slice(ri[p + 3])[..cw];
+                for t in 0..cw {
+                    yj[t] += s0 * x0[t] + s1 * x1[t] + s2 * x2[t] + s3 * x3[t];
+                }
+                p += 4;
+            }
+            for q in p..end {
+                let s = v[q];
+                for (y, xi) in yj.iter_mut().zip(&xt.col_as_slice(ri[q])[..cw]) {
                     *y += s * xi;
                 }
             }
