@@ -20,14 +20,13 @@
 //! (33) were weighted per eigenspace: sizes [21, 8], e*_1 0.039; the factorisations, which make
 //! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
 //! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
-//! After 81229ce (the Craig-Bampton's sparse-dense products by a gather kernel, its
-//! multi-column solves split among the threads), CB 203 s at 4.2 GB (quiet machine, two
-//! cores: factor 6 s, 50 modes 31 s, constraint-mode solves 60 s, second solves 59 s,
-//! sparse-dense products 37 s); the same call on the refinement-8 blade (61,404 DoFs) 68 ->
-//! 30 s, refinement 5 19.6 -> 9.9 s. With the dependencies built without their debug
-//! assertions (as in this bench's release profile) and four entries per pass of the gather
-//! kernel: CB 138 s at 4.2 GB, refinement 8 21.7 s, refinement 5 7.5 s (the probe runs in the
-//! test profile).
+//! With the Craig-Bampton's sparse-dense products by a gather kernel (`spmm_t`, the same bits
+//! as faer's product) and the dependencies without debug assertions, the same call in the test
+//! profile: refinement 8 (61,404 DoFs) 68 -> 47.8 s, refinement 5 19.6 -> 15.4 s; refinement
+//! 15 not measured with exactly this code. Splitting each block's solve among the threads as
+//! well took refinement 15 to 138 s (8 to 21.7 s), but it changes the rounding of the reduced
+//! model, and the principal-angle bounds of tests/jp_reference.rs (1e-8) then failed
+//! (1.1e-8 to 2.8e-8): not landed.
 //!
 //! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
 //! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):

@@ -18,12 +18,11 @@
 //! `n_i x (n_modes + a few hundred)` dense columns. The modes come from
 //! [`super::eigen::lowest_modes`]. No `n x n` dense block is ever formed. The products of the
 //! sparse blocks with the dense `n_i x BLOCK` columns gather along contiguous rows
-//! ([`crate::linalg::sparse::spmm_t`]), and each block's solve splits its columns among the
-//! threads ([`SparseCholesky::solve_in_place`]): on the refinement-15 blade (140,658 DoFs,
-//! 5,793 boundary DoFs, 50 modes) 138 s where faer's product and solve took 573 s.
+//! ([`crate::linalg::sparse::spmm_t`], the same bits as faer's product): on the refinement-8
+//! blade (61,404 DoFs, 1,761 boundary DoFs, 50 modes) 47.8 s where faer's product took 68 s.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
-use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_t, SparseMat};
+use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_by_transpose, spmm_t, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat};
@@ -215,7 +214,7 @@ impl CraigBampton {
             spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &k_ib, psi.as_ref(), 1.0);
             for a in projected.iter_mut() {
                 let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
-                spmm_t(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
+                spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
                 spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
                 matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
                 match &psi_all {
@@ -232,7 +231,7 @@ impl CraigBampton {
         drop(chol);
         for a in projected.iter_mut() {
             let mut aphi = Mat::<f64>::zeros(ni, n_modes);
-            spmm_t(aphi.as_mut(), Accum::Replace, &a.a_ii_t, phi.as_ref(), 1.0);
+            spmm_by_transpose(aphi.as_mut(), Accum::Replace, &a.a_ii_t, phi.as_ref(), 1.0);
             matmul(a.red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes), Accum::Replace, phi.as_ref().transpose(), aphi.as_ref(), 1.0, par);
             // mode-boundary blocks: copy the lower block up, then symmetrise
             for j in nb..nr {
@@ -347,7 +346,7 @@ fn fixed_interface_modes(chol: &SparseCholesky, m_ii: &SparseMat, cap: usize, cu
 
 /// A matrix projected the way `M` is: its interior and interior-boundary blocks, and `T^T A T`.
 struct MassLike {
-    /// `A_ii^T` (products `A_ii X` by [`spmm_t`]).
+    /// `A_ii^T` (products `A_ii X` by [`spmm_by_transpose`]).
     a_ii_t: SparseMat,
     a_ib: SparseMat,
     red: Mat<f64>,

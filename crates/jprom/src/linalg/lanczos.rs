@@ -37,10 +37,6 @@ fn par() -> Par {
     faer::get_global_parallelism()
 }
 
-/// Fewest columns per thread for which [`SparseCholesky::solve_in_place`] splits the columns
-/// among the threads.
-pub const SPLIT_COLUMNS: usize = 16;
-
 impl SparseCholesky {
     /// Factorises the symmetric positive definite `a` (full or lower storage: the lower
     /// triangle is read), with an AMD ordering and a supernodal factor.
@@ -91,33 +87,12 @@ impl SparseCholesky {
         self.values.len()
     }
 
-    /// Solves `A X = B` in place (any number of columns). With several threads and at least
-    /// [`SPLIT_COLUMNS`] columns a thread, the columns are split among the threads, each
-    /// solving its share alone: faer's supernodal solve runs the supernodes in sequence and
-    /// shares only each supernode's small products among the threads, which left them mostly
-    /// waiting (on the refinement-8 blade's Craig-Bampton, 61,404 DoFs, blocks of 256
-    /// columns: the two solves per block took 34.4 s in all, 14.4 s split).
+    /// Solves `A X = B` in place (any number of columns).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        let threads = match par() {
-            Par::Seq => 1,
-            Par::Rayon(n) => n.get(),
-        };
-        self.solve_split(rhs, threads);
-    }
-
-    fn solve_split(&self, rhs: MatMut<'_, f64>, threads: usize) {
         let k = rhs.ncols();
-        if threads > 1 && k >= 2 * SPLIT_COLUMNS {
-            let left = threads / 2;
-            let mid = k * left / threads;
-            let (a, b) = rhs.split_at_col_mut(mid);
-            rayon::join(|| self.solve_split(a, left), || self.solve_split(b, threads - left));
-            return;
-        }
-        let inner = if threads > 1 { par() } else { Par::Seq };
-        let req = self.symbolic.solve_in_place_scratch::<f64>(k, inner);
+        let req = self.symbolic.solve_in_place_scratch::<f64>(k, par());
         let mut mem = MemBuffer::new(req);
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, inner, MemStack::new(&mut mem));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, par(), MemStack::new(&mut mem));
     }
 
     /// The half solve `x <- L^-1 x` (`transpose = false`) or `x <- L^-T x` in the permuted
@@ -130,12 +105,11 @@ impl SparseCholesky {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Supernodal(s) => {
                 let l = SupernodalLltRef::new(s, &self.values);
-                let p = if k < SPLIT_COLUMNS { Par::Seq } else { par() };
-                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(k, p));
+                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(k, par()));
                 if transpose {
-                    l.l_transpose_solve_with_conj(Conj::No, x.as_mut(), p, MemStack::new(&mut mem));
+                    l.l_transpose_solve_with_conj(Conj::No, x.as_mut(), par(), MemStack::new(&mut mem));
                 } else {
-                    l.l_solve_with_conj(Conj::No, x.as_mut(), p, MemStack::new(&mut mem));
+                    l.l_solve_with_conj(Conj::No, x.as_mut(), par(), MemStack::new(&mut mem));
                 }
             }
             SymbolicCholeskyRaw::Simplicial(s) => {

@@ -161,36 +161,41 @@ const GATHER_WIDTH: usize = 64;
 /// row `j` of the product is `sum_i a_ij X[i, :]` over column `j` of `A`, gathered from the
 /// rows of `X` laid out contiguously (`X^T` in blocks of [`GATHER_WIDTH`] columns, the blocks
 /// shared among the threads). faer's sparse-dense product scatters one column of `X` at a time
-/// with scalar updates; this form is vectorised along the rows of `X`. For `A X` pass
-/// [`sparse_transpose`]`(A)` (the Craig-Bampton blocks: `M_ii Psi_B` with 256 columns, 4.6x
-/// faster than faer's on the refinement-5 blade).
-pub(crate) fn spmm_t(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
+/// with scalar updates, on one thread; this form is vectorised along the rows of `X` (the
+/// Craig-Bampton blocks of the refinement-5 blade: 4.6x faster). The sums are formed in the
+/// order faer forms them for the transposed product (from zero, then `out += alpha * sum`), so
+/// the result is the same to the last bit.
+pub(crate) fn spmm_t(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
+    gather(out, accum, a, x, alpha, false);
+}
+
+/// `out (+)= alpha * A X` from `a_t` = [`sparse_transpose`]`(A)` by the kernel of [`spmm_t`],
+/// with faer's order for the product with a CSC matrix (each `a_ik (alpha x_k)` added onto
+/// `out` in ascending `k`), so the result is the same to the last bit.
+pub(crate) fn spmm_by_transpose(out: MatMut<'_, f64>, accum: Accum, a_t: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
+    gather(out, accum, a_t, x, alpha, true);
+}
+
+/// The kernel of [`spmm_t`] and [`spmm_by_transpose`] (`onto`: start from `out` and add
+/// `a (alpha x)` term by term).
+fn gather(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64, onto: bool) {
     let a = a.as_ref();
     let (k, m, w) = (a.nrows(), a.ncols(), x.ncols());
-    assert!(x.nrows() == k && out.nrows() == m && out.ncols() == w, "spmm_t: A is {k} x {m}, X {} x {w}, out {} x {}", x.nrows(), out.nrows(), out.ncols());
+    assert!(x.nrows() == k && out.nrows() == m && out.ncols() == w, "sparse gather product: A^T is {m} x {k}, X {} x {w}, out {} x {}", x.nrows(), out.nrows(), out.ncols());
     let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let start = out.as_ref();
     let block = |c0: usize| -> Mat<f64> {
         let cw = GATHER_WIDTH.min(w - c0);
-        let xt = x.subcols(c0, cw).transpose().to_owned();
-        let mut yt = Mat::<f64>::zeros(cw, m);
+        let mut xt = x.subcols(c0, cw).transpose().to_owned();
+        let mut yt = if onto && accum == Accum::Add { start.subcols(c0, cw).transpose().to_owned() } else { Mat::<f64>::zeros(cw, m) };
+        if onto {
+            xt *= faer::Scale(alpha);
+        }
         for j in 0..m {
             let yj = &mut yt.col_as_slice_mut(j)[..cw];
-            let (mut p, end) = (cp[j], cp[j + 1]);
-            // Four entries at a time: one load and store of the output row per four.
-            while p + 4 <= end {
-                let (s0, s1, s2, s3) = (v[p], v[p + 1], v[p + 2], v[p + 3]);
-                let x0 = &xt.col_as_slice(ri[p])[..cw];
-                let x1 = &xt.col_as_slice(ri[p + 1])[..cw];
-                let x2 = &xt.col_as_slice(ri[p + 2])[..cw];
-                let x3 = &xt.col_as_slice(ri[p + 3])[..cw];
-                for t in 0..cw {
-                    yj[t] += s0 * x0[t] + s1 * x1[t] + s2 * x2[t] + s3 * x3[t];
-                }
-                p += 4;
-            }
-            for q in p..end {
-                let s = v[q];
-                for (y, xi) in yj.iter_mut().zip(&xt.col_as_slice(ri[q])[..cw]) {
+            for p in cp[j]..cp[j + 1] {
+                let s = v[p];
+                for (y, xi) in yj.iter_mut().zip(&xt.col_as_slice(ri[p])[..cw]) {
                     *y += s * xi;
                 }
             }
@@ -206,6 +211,10 @@ pub(crate) fn spmm_t(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: M
     };
     for (&c0, yt) in starts.iter().zip(&blocks) {
         let mut o = out.as_mut().subcols_mut(c0, yt.nrows());
+        if onto {
+            o.copy_from(yt.transpose());
+            continue;
+        }
         match accum {
             Accum::Replace => o.copy_from(yt.transpose() * faer::Scale(alpha)),
             Accum::Add => o += yt.transpose() * faer::Scale(alpha),
@@ -287,10 +296,18 @@ mod tests {
             let at = sparse_transpose(&a);
             assert_eq!(sparse_to_dense(&at), ad.transpose().to_owned());
             let xm = Mat::from_fn(m, w, |i, j| ((i * 7 + j) % 13) as f64);
-            let mut z = Mat::<f64>::zeros(k, w);
-            spmm_t(z.as_mut(), Accum::Replace, &at, xm.as_ref(), 2.0);
-            let want = &ad * &xm * faer::Scale(2.0);
+            let z0 = Mat::from_fn(k, w, |i, j| (i * j % 5) as f64 * 0.1);
+            let mut z = z0.clone();
+            spmm_by_transpose(z.as_mut(), Accum::Add, &at, xm.as_ref(), 2.0);
+            let want = &z0 + &ad * &xm * faer::Scale(2.0);
             assert!((&z - &want).norm_max() <= 1e-12 * want.norm_max(), "w = {w}");
+            // The same bits as faer's products.
+            let mut f = z0.clone();
+            faer::sparse::linalg::matmul::sparse_dense_matmul(f.as_mut(), Accum::Add, a.as_ref(), xm.as_ref(), 2.0, faer::Par::Seq);
+            assert!(f == z, "w = {w}: A X differs from faer's");
+            let mut f = y0.clone();
+            faer::sparse::linalg::matmul::sparse_dense_matmul(f.as_mut(), Accum::Add, a.as_ref().transpose(), x.as_ref(), -0.5, faer::Par::Seq);
+            assert!(f == y, "w = {w}: A^T X differs from faer's");
         }
     }
 }

@@ -15,9 +15,10 @@
 //! (conditioning the last prediction's modes again with the larger `gamma`, which needs no
 //! eigen solve, and uniting as well); after a `gamma` step, the next regenerates if that step
 //! halved the worst error (its reduced solution is then the better generating shape), else
-//! enlarges `gamma` again (on the demo blade at alpha_ST / 3000, FR from the stuck-mode basis:
-//! two steps, 2.3 s, where regenerating after every regeneration that halved the error took
-//! four, 5.9 s; tests/correction_policy.rs). A
+//! enlarges `gamma` again (`regenerates_next`; on the demo blade at alpha_ST / 3000, FR from
+//! the stuck-mode basis: two steps, 2.3 s, where regenerating after every regeneration that
+//! halved the error took four, 5.9 s; the path depends on the model's rounding,
+//! tests/correction_policy.rs). A
 //! correction after which the worst `e*_1` is larger is reported (its `worst_error_after` is
 //! above its `worst_error_before`) and dropped: the sweep goes on from the basis before it, so
 //! the result is the best basis found.
@@ -278,6 +279,15 @@ fn predict(coords: &ContactCoordinates, opts: &PredictionOptions, last: &mut Opt
     Ok((basis, report))
 }
 
+/// Whether the correction after a step regenerates (else it grows `gamma`): after a
+/// regeneration, a `gamma` step (no eigen solve: the regenerated modes conditioned again);
+/// after a `gamma` step, a regeneration if that step halved the judged error (`before` ->
+/// `after`; its reduced solution is then the better generating shape), else a further `gamma`
+/// step; a regeneration whenever `gamma` is at its maximum.
+fn regenerates_next(gamma_step: bool, before: f64, after: f64, at_max_gamma: bool) -> bool {
+    (gamma_step && after < 0.5 * before) || at_max_gamma
+}
+
 /// Largest entry of the part of a correction's basis outside the current basis' span below
 /// which the two are taken as one basis ([`JpBasis::spans_the_same`]; both orthonormal, so
 /// this bounds the sine of the largest principal angle per column).
@@ -479,10 +489,29 @@ pub fn adaptive_sweep_from(
             _ => {}
         }
         let after = pass.worst;
-        // After a regeneration, a gamma step (no eigen solve: the regenerated modes conditioned
-        // again); after a gamma step, a regeneration if it halved the error (its reduced
-        // solution is the better generating shape), else a further gamma step.
-        regenerate_next = (gamma_step && after < 0.5 * before) || popts.gamma >= aopts.max_gamma;
+        regenerate_next = regenerates_next(gamma_step, before, after, popts.gamma >= aopts.max_gamma);
     };
     Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks: pass.checks, worst_error: pass.worst, end })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::regenerates_next;
+
+    /// The rule of docs/formulation.md §10.5 step 3. The former rule (regenerate after any
+    /// step that halved the error) fails the second assertion.
+    #[test]
+    fn a_regeneration_is_followed_by_a_gamma_step() {
+        // after a regeneration: gamma, whether it halved the error or not
+        assert!(!regenerates_next(false, 1.0, 0.9, false));
+        assert!(!regenerates_next(false, 1.0, 0.2, false));
+        // after a gamma step: regenerate if it halved the error, else gamma again
+        assert!(regenerates_next(true, 1.0, 0.4, false));
+        assert!(!regenerates_next(true, 1.0, 0.6, false));
+        // at the largest gamma, always regenerate
+        assert!(regenerates_next(false, 1.0, 0.9, true));
+        assert!(regenerates_next(true, 1.0, 0.9, true));
+        // a NaN error (no converged pass) is no halving
+        assert!(!regenerates_next(true, 1.0, f64::NAN, false));
+    }
 }
