@@ -21,12 +21,13 @@
 //! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
 //! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
 //! With the Craig-Bampton's sparse-dense products by a gather kernel (`spmm_t`, the same bits
-//! as faer's product) and the dependencies without debug assertions, the same call in the test
-//! profile: refinement 8 (61,404 DoFs) 68 -> 47.8 s, refinement 5 19.6 -> 15.4 s; refinement
-//! 15 not measured with exactly this code. Splitting each block's solve among the threads as
-//! well took refinement 15 to 138 s (8 to 21.7 s), but it changes the rounding of the reduced
-//! model, and the principal-angle bounds of tests/jp_reference.rs (1e-8) then failed
-//! (1.1e-8 to 2.8e-8): not landed.
+//! as faer's product), the dependencies without debug assertions, and each block's solve split
+//! among the threads (the same bits as faer's solve; the reduced matrices hash the same with
+//! and without), the same call in the test profile (quiet machine): refinement 15 573 -> 267 ->
+//! 158 s at 4.2 GB, refinement 8 (61,404 DoFs) 68 -> 31.1 -> 22.2 s. An earlier variant that
+//! also ran the Lanczos half solves on one thread and summed four entries per pass took
+//! refinement 15 to 138 s, but those two change the rounding of the reduced model, and the
+//! principal-angle bounds of tests/jp_reference.rs (1e-8) then failed (1.1e-8 to 2.8e-8).
 //!
 //! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
 //! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):
