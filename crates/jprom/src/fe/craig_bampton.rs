@@ -21,7 +21,8 @@
 //! ([`crate::linalg::sparse::spmm_t`], the same bits as faer's product), and each block's solve
 //! splits its columns among the threads ([`SparseCholesky::solve_in_place`], the same bits as
 //! faer's solve): on the refinement-15 blade (140,658 DoFs, 5,793 boundary DoFs, 50 modes)
-//! 158 s at 4.2 GB (267 s with faer's solve, 573 s with faer's product as well).
+//! 158 s at 4.2 GB (267 s with faer's solve, 573 s with faer's product as well). The
+//! fixed-interface modes run alongside the first blocks (see below): 143 s at 4.7 GB.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
 use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_by_transpose, spmm_t, SparseMat};
@@ -32,15 +33,17 @@ use faer::{Accum, Mat};
 /// Estimated bytes of the dense parts of a Craig-Bampton reduction with `ni` interior and `nb`
 /// boundary DoFs and up to `n_modes` fixed-interface modes: the reduced `K`, `M` (and `C`) and
 /// `K_bb`, the modes with the Lanczos vectors (`3 n_modes` of length `ni`), three
-/// `n_i x min(256, n_b)` column blocks, and with `keep_recovery` the constraint modes `Psi` (`n_i x n_b`). The sparse
+/// `n_i x min(256, n_b)` column blocks, the blocks kept while the modes are computed
+/// ([`OVERLAP_BLOCKS`] per projected matrix), and with `keep_recovery` the constraint modes `Psi` (`n_i x n_b`). The sparse
 /// factor of `K_ii` comes on top (its fill is known only once it is factored).
 pub fn working_set_bytes(ni: usize, nb: usize, n_modes: usize, damping: bool, keep_recovery: bool) -> u128 {
     use crate::memory::{bytes_of, product};
     let nr = nb.saturating_add(n_modes);
     let reduced = product(&[3 + damping as usize, nr, nr]);
     let vectors = product(&[ni, 3usize.saturating_mul(n_modes).saturating_add(3 * BLOCK.min(nb))]);
+    let overlap = product(&[OVERLAP_BLOCKS, 1 + damping as usize, ni, BLOCK.min(nb)]);
     let psi = if keep_recovery { product(&[ni, nb]) } else { 0 };
-    bytes_of::<f64>(reduced.saturating_add(vectors).saturating_add(psi))
+    bytes_of::<f64>(reduced.saturating_add(vectors).saturating_add(overlap).saturating_add(psi))
 }
 
 /// Options of the Craig-Bampton reduction.
@@ -160,28 +163,23 @@ impl CraigBampton {
         let k_bb = sparse_dense_block(k, &b_map, nb, boundary);
         let m_ii = sparse_submatrix(m, &i_map, ni, &interior);
         let chol = SparseCholesky::factor(&k_ii, "interior stiffness K_ii")?;
-        let modes = fixed_interface_modes(&chol, &m_ii, options.n_modes.min(ni), options.cutoff_hz)?;
-        let n_modes = modes.eigenvalues.len();
-        let phi = modes.vectors;
-        let nr = nb + n_modes;
+        // The reduced matrices are sized for `cap` modes and cut to the modes found (fewer
+        // with a cut-off frequency) once the modes are known.
+        let nr_cap = nb + cap;
         // M and C are projected alike (`T^T A T`, A = M, C)
-        let mut m_ii = Some(m_ii);
         let mut projected: Vec<MassLike> = std::iter::once(m)
             .chain(c)
-            .map(|a| {
-                let mut red = Mat::<f64>::zeros(nr, nr);
+            .enumerate()
+            .map(|(which, a)| {
+                let mut red = Mat::<f64>::zeros(nr_cap, nr_cap);
                 red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&sparse_dense_block(a, &b_map, nb, boundary));
-                let a_ii = m_ii.take().unwrap_or_else(|| sparse_submatrix(a, &i_map, ni, &interior));
-                MassLike { a_ii_t: sparse_transpose(&a_ii), a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
+                let a_ii_t = if which == 0 { sparse_transpose(&m_ii) } else { sparse_transpose(&sparse_submatrix(a, &i_map, ni, &interior)) };
+                MassLike { a_ii_t, a_ib: sparse_submatrix(a, &i_map, ni, boundary), red }
             })
             .collect();
-
-        let par = faer::get_global_parallelism();
-        let mut k_red = Mat::<f64>::zeros(nr, nr);
+        let mut k_red = Mat::<f64>::zeros(nr_cap, nr_cap);
         k_red.as_mut().submatrix_mut(0, 0, nb, nb).copy_from(&k_bb);
-        for (r, &lam) in modes.eigenvalues.iter().enumerate() {
-            k_red[(nb + r, nb + r)] = lam;
-        }
+        drop(k_bb);
         // Boundary columns in blocks B, never more than `n_i x BLOCK` dense at a time besides
         // the kept `Psi`:
         //   Psi_B = -K_ii^-1 K_iB,   X_B = A_iB + A_ii Psi_B   (A = M, C),
@@ -191,44 +189,60 @@ impl CraigBampton {
         // With `keep_recovery` the whole `Psi` is solved for first (one multi-right-hand-side
         // solve) and `Psi^T X_B` is a product, as before the blocked path existed: the blade-pair
         // stuck-limit test (tests/jp_blade_pair.rs) is sensitive to the difference.
-        let all_i = identity_map(ni);
-        let psi_all = if options.keep_recovery {
-            let mut all = sparse_dense_block(&k_ib, &all_i, ni, &(0..nb).collect::<Vec<_>>());
-            chol.solve_in_place(all.as_mut());
-            all *= faer::Scale(-1.0);
-            Some(all)
-        } else {
-            None
-        };
-        let mut start = 0;
+        //
+        // The fixed-interface modes (one-column shift-invert applications, which keep the
+        // threads mostly waiting) run alongside the first blocks: those blocks keep their
+        // `X_B` (at most `OVERLAP_BLOCKS` of them) until `Phi` is known. Every operation is the
+        // one the sequential order makes, on the same data, so the bits are the same.
+        let blocks = CbBlocks { nb, ni, k_ib: &k_ib, chol: &chol, keep_recovery: options.keep_recovery };
+        let done = std::sync::atomic::AtomicBool::new(false);
+        let (modes, (psi_all, mut start, saved)) = rayon::join(
+            || {
+                let modes = fixed_interface_modes(&chol, &m_ii, cap, options.cutoff_hz);
+                done.store(true, std::sync::atomic::Ordering::Release);
+                modes
+            },
+            || {
+                let psi_all = blocks.constraint_modes();
+                let mut start = 0;
+                let mut saved = Vec::new();
+                let (fewest, most) = overlap_bounds();
+                while start < nb
+                    && saved.len() < most
+                    && (saved.len() < fewest || !done.load(std::sync::atomic::Ordering::Acquire))
+                {
+                    let w = BLOCK.min(nb - start);
+                    let xs = blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, None);
+                    saved.push((start, w, xs));
+                    start += w;
+                }
+                (psi_all, start, saved)
+            },
+        );
+        let modes = modes?;
+        drop(m_ii);
+        let n_modes = modes.eigenvalues.len();
+        let phi = modes.vectors;
+        let nr = nb + n_modes;
+        for (r, &lam) in modes.eigenvalues.iter().enumerate() {
+            k_red[(nb + r, nb + r)] = lam;
+        }
+        let par = faer::get_global_parallelism();
+        for (b_start, w, xs) in saved {
+            for (a, x) in projected.iter_mut().zip(xs) {
+                matmul(a.red.as_mut().submatrix_mut(nb, b_start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
+            }
+        }
         while start < nb {
             let w = BLOCK.min(nb - start);
-            let cols: Vec<usize> = (start..start + w).collect();
-            let psi = match &psi_all {
-                Some(all) => all.as_ref().subcols(start, w).to_owned(),
-                None => {
-                    let mut psi = sparse_dense_block(&k_ib, &all_i, ni, &cols);
-                    chol.solve_in_place(psi.as_mut());
-                    psi *= faer::Scale(-1.0);
-                    psi
-                }
-            };
-            spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &k_ib, psi.as_ref(), 1.0);
-            for a in projected.iter_mut() {
-                let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
-                spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
-                spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
-                matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
-                match &psi_all {
-                    Some(all) => matmul(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
-                    None => {
-                        chol.solve_in_place(x.as_mut());
-                        spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &k_ib, x.as_ref(), -1.0);
-                    }
-                }
-            }
-            drop(psi);
+            blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, Some(&phi));
             start += w;
+        }
+        if nr < nr_cap {
+            k_red = k_red.as_ref().submatrix(0, 0, nr, nr).to_owned();
+            for a in projected.iter_mut() {
+                a.red = a.red.as_ref().submatrix(0, 0, nr, nr).to_owned();
+            }
         }
         drop(chol);
         for a in projected.iter_mut() {
@@ -354,6 +368,100 @@ struct MassLike {
     red: Mat<f64>,
 }
 
+/// Most boundary blocks processed alongside the fixed-interface modes, each keeping its `X_B`
+/// (`n_i x BLOCK` per projected matrix) until the modes are known (see
+/// [`CraigBampton::reduce_with_damping`]).
+const OVERLAP_BLOCKS: usize = 4;
+
+/// `(fewest, most)` blocks processed alongside the modes: `(0, OVERLAP_BLOCKS)`, as many as
+/// fit before the modes are done.
+#[cfg(not(test))]
+fn overlap_bounds() -> (usize, usize) {
+    (0, OVERLAP_BLOCKS)
+}
+
+/// The test build sets both bounds, to compare the reduction with and without the overlap (the
+/// same bits either way).
+#[cfg(test)]
+static OVERLAP_BOUNDS: std::sync::Mutex<(usize, usize)> = std::sync::Mutex::new((0, OVERLAP_BLOCKS));
+
+#[cfg(test)]
+fn overlap_bounds() -> (usize, usize) {
+    *OVERLAP_BOUNDS.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The boundary-column blocks of the reduction (the loop of
+/// [`CraigBampton::reduce_with_damping`]).
+struct CbBlocks<'a> {
+    nb: usize,
+    ni: usize,
+    k_ib: &'a SparseMat,
+    chol: &'a SparseCholesky,
+    keep_recovery: bool,
+}
+
+impl CbBlocks<'_> {
+    /// With `keep_recovery`, the whole `Psi = -K_ii^-1 K_ib` (one multi-right-hand-side solve).
+    fn constraint_modes(&self) -> Option<Mat<f64>> {
+        if !self.keep_recovery {
+            return None;
+        }
+        let mut all = sparse_dense_block(self.k_ib, &identity_map(self.ni), self.ni, &(0..self.nb).collect::<Vec<_>>());
+        self.chol.solve_in_place(all.as_mut());
+        all *= faer::Scale(-1.0);
+        Some(all)
+    }
+
+    /// Block `B = start..start + w`: `K_red[b, B]`, `A_red[b, B]` and, with `phi`,
+    /// `A_red[m, B] = Phi^T X_B`; without `phi` the `X_B` are returned (one per projected
+    /// matrix) for that product later.
+    fn block(
+        &self,
+        start: usize,
+        w: usize,
+        psi_all: Option<&Mat<f64>>,
+        k_red: &mut Mat<f64>,
+        projected: &mut [MassLike],
+        phi: Option<&Mat<f64>>,
+    ) -> Vec<Mat<f64>> {
+        let (nb, ni) = (self.nb, self.ni);
+        let par = faer::get_global_parallelism();
+        let all_i = identity_map(ni);
+        let cols: Vec<usize> = (start..start + w).collect();
+        let psi = match psi_all {
+            Some(all) => all.as_ref().subcols(start, w).to_owned(),
+            None => {
+                let mut psi = sparse_dense_block(self.k_ib, &all_i, ni, &cols);
+                self.chol.solve_in_place(psi.as_mut());
+                psi *= faer::Scale(-1.0);
+                psi
+            }
+        };
+        spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, psi.as_ref(), 1.0);
+        let mut kept = Vec::new();
+        for a in projected.iter_mut() {
+            let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
+            spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
+            spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
+            match phi {
+                Some(phi) => {
+                    let n_modes = phi.ncols();
+                    matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
+                }
+                None => kept.push(x.clone()),
+            }
+            match psi_all {
+                Some(all) => matmul(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
+                None => {
+                    self.chol.solve_in_place(x.as_mut());
+                    spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, x.as_ref(), -1.0);
+                }
+            }
+        }
+        kept
+    }
+}
+
 /// `A <- (A + A^T) / 2`.
 fn symmetrise(a: &mut Mat<f64>) {
     for j in 0..a.ncols() {
@@ -367,4 +475,83 @@ fn symmetrise(a: &mut Mat<f64>) {
 
 fn identity_map(n: usize) -> Vec<usize> {
     (0..n).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::sparse::sparse_from_triplets;
+
+    /// The modes computed alongside the first blocks give the same bits as the modes first:
+    /// a 3D grid of 5,832 DoFs with one face (324 DoFs) and an edge as the boundary, two
+    /// blocks of 256 columns, with and without constraint modes and damping, and with a
+    /// cut-off frequency that keeps fewer modes than the cap.
+    #[test]
+    fn modes_alongside_the_blocks_give_the_same_bits() {
+        let g = 18usize;
+        let n = g * g * g;
+        let id = |x: usize, y: usize, z: usize| (x * g + y) * g + z;
+        let (mut tk, mut tm, mut tc) = (Vec::new(), Vec::new(), Vec::new());
+        for x in 0..g {
+            for y in 0..g {
+                for z in 0..g {
+                    let i = id(x, y, z);
+                    tk.push((i, i, 6.0 + 0.01 * (i % 7) as f64));
+                    tm.push((i, i, 1.0 + 0.001 * (i % 3) as f64));
+                    tc.push((i, i, 0.02));
+                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                        let (a, b, c) = (x + dx, y + dy, z + dz);
+                        if a < g && b < g && c < g {
+                            let j = id(a, b, c);
+                            tk.push((i, j, -1.0));
+                            tk.push((j, i, -1.0));
+                            tm.push((i, j, 0.05));
+                            tm.push((j, i, 0.05));
+                        }
+                    }
+                }
+            }
+        }
+        let k = sparse_from_triplets(n, n, tk).unwrap();
+        let m = sparse_from_triplets(n, n, tm).unwrap();
+        let c = sparse_from_triplets(n, n, tc).unwrap();
+        let mut boundary: Vec<usize> = (0..g * g).map(|r| id(0, r / g, r % g)).collect();
+        boundary.extend((1..g).map(|x| id(x, 0, 0)));
+        assert!(boundary.len() > BLOCK, "two blocks at least");
+        let bits = |cb: &CraigBampton| {
+            let mut v = Vec::new();
+            for a in [Some(&cb.stiffness), Some(&cb.mass), cb.damping.as_ref(), cb.constraint_modes.as_ref()].into_iter().flatten() {
+                for j in 0..a.ncols() {
+                    v.extend((0..a.nrows()).map(|i| a[(i, j)].to_bits()));
+                }
+            }
+            v.extend(cb.modal_eigenvalues.iter().map(|l| l.to_bits()));
+            v
+        };
+        let mut cut = None;
+        for (keep_recovery, damping, with_cutoff) in [(false, false, false), (true, true, false), (false, true, true)] {
+            let cutoff_hz = if with_cutoff { cut } else { None };
+            let options = CbOptions { n_modes: 12, keep_recovery, cutoff_hz };
+            let run = |bounds: (usize, usize)| {
+                *OVERLAP_BOUNDS.lock().unwrap() = bounds;
+                let cb = CraigBampton::reduce_with_damping(&k, &m, damping.then_some(&c), &boundary, options).unwrap();
+                *OVERLAP_BOUNDS.lock().unwrap() = (0, OVERLAP_BLOCKS);
+                cb
+            };
+            let first = run((0, 0));
+            let alongside = run((2, 2));
+            if !with_cutoff {
+                let f = first.modal_frequencies_hz();
+                cut = Some(0.5 * (f[5] + f[6]));
+            } else {
+                let kept = first.modal_eigenvalues.len();
+                assert!(kept > 0 && kept < 12, "the cut-off must keep some but not all modes, kept {kept}");
+            }
+            assert_eq!(first.n_reduced(), alongside.n_reduced());
+            let (a, b) = (bits(&first), bits(&alongside));
+            assert_eq!(a.len(), b.len());
+            let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+            assert_eq!(differ, 0, "keep_recovery {keep_recovery}, damping {damping}, cut-off {cutoff_hz:?}: {differ} of {} values differ", a.len());
+        }
+    }
 }
