@@ -194,7 +194,7 @@ impl CraigBampton {
         // threads mostly waiting) run alongside the first blocks: those blocks keep their
         // `X_B` (at most `OVERLAP_BLOCKS` of them) until `Phi` is known. Every operation is the
         // one the sequential order makes, on the same data, so the bits are the same.
-        let blocks = CbBlocks { nb, ni, k_ib: &k_ib, chol: &chol, keep_recovery: options.keep_recovery };
+        let blocks = CbBlocks { nb, ni, all_i: identity_map(ni), k_ib: &k_ib, chol: &chol, keep_recovery: options.keep_recovery };
         let done = std::sync::atomic::AtomicBool::new(false);
         let (modes, (psi_all, mut start, saved)) = rayon::join(
             || {
@@ -395,6 +395,8 @@ fn overlap_bounds() -> (usize, usize) {
 struct CbBlocks<'a> {
     nb: usize,
     ni: usize,
+    /// `0..n_i`, the row map of the interior blocks.
+    all_i: Vec<usize>,
     k_ib: &'a SparseMat,
     chol: &'a SparseCholesky,
     keep_recovery: bool,
@@ -406,7 +408,7 @@ impl CbBlocks<'_> {
         if !self.keep_recovery {
             return None;
         }
-        let mut all = sparse_dense_block(self.k_ib, &identity_map(self.ni), self.ni, &(0..self.nb).collect::<Vec<_>>());
+        let mut all = sparse_dense_block(self.k_ib, &self.all_i, self.ni, &identity_map(self.nb));
         self.chol.solve_in_place(all.as_mut());
         all *= faer::Scale(-1.0);
         Some(all)
@@ -426,12 +428,12 @@ impl CbBlocks<'_> {
     ) -> Vec<Mat<f64>> {
         let (nb, ni) = (self.nb, self.ni);
         let par = faer::get_global_parallelism();
-        let all_i = identity_map(ni);
+        let all_i = &self.all_i;
         let cols: Vec<usize> = (start..start + w).collect();
         let psi = match psi_all {
             Some(all) => all.as_ref().subcols(start, w).to_owned(),
             None => {
-                let mut psi = sparse_dense_block(self.k_ib, &all_i, ni, &cols);
+                let mut psi = sparse_dense_block(self.k_ib, all_i, ni, &cols);
                 self.chol.solve_in_place(psi.as_mut());
                 psi *= faer::Scale(-1.0);
                 psi
@@ -440,7 +442,7 @@ impl CbBlocks<'_> {
         spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, psi.as_ref(), 1.0);
         let mut kept = Vec::new();
         for a in projected.iter_mut() {
-            let mut x = sparse_dense_block(&a.a_ib, &all_i, ni, &cols);
+            let mut x = sparse_dense_block(&a.a_ib, all_i, ni, &cols);
             spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
             spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
             match phi {
