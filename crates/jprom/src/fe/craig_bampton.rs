@@ -25,10 +25,10 @@
 //! fixed-interface modes run alongside the first blocks (see below): 143 s at 4.7 GB.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
-use crate::linalg::sparse::{sparse_dense_block, sparse_submatrix, sparse_transpose, spmm_by_transpose, spmm_t, SparseMat};
+use crate::linalg::sparse::{sparse_dense_block, sparse_dense_block_into, sparse_submatrix, sparse_transpose, spmm_by_transpose, spmm_t, MatPool, SparseMat};
 use crate::error::{JpError, Result};
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat};
+use faer::{Accum, Mat, MatMut};
 
 /// Estimated bytes of the dense parts of a Craig-Bampton reduction with `ni` interior and `nb`
 /// boundary DoFs and up to `n_modes` fixed-interface modes: the reduced `K`, `M` (and `C`) and
@@ -195,6 +195,7 @@ impl CraigBampton {
         // `X_B` (at most `OVERLAP_BLOCKS` of them) until `Phi` is known. Every operation is the
         // one the sequential order makes, on the same data, so the bits are the same.
         let blocks = CbBlocks { nb, ni, all_i: identity_map(ni), k_ib: &k_ib, chol: &chol, keep_recovery: options.keep_recovery };
+        let mut buffers = BlockBuffers { psi: Mat::new(), x: Vec::new(), gather: MatPool::default() };
         let done = std::sync::atomic::AtomicBool::new(false);
         let (modes, (psi_all, mut start, saved)) = rayon::join(
             || {
@@ -212,7 +213,7 @@ impl CraigBampton {
                     && (saved.len() < fewest || !done.load(std::sync::atomic::Ordering::Acquire))
                 {
                     let w = BLOCK.min(nb - start);
-                    let xs = blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, None);
+                    let xs = blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, &mut buffers, None);
                     saved.push((start, w, xs));
                     start += w;
                 }
@@ -235,7 +236,7 @@ impl CraigBampton {
         }
         while start < nb {
             let w = BLOCK.min(nb - start);
-            blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, Some(&phi));
+            blocks.block(start, w, psi_all.as_ref(), &mut k_red, &mut projected, &mut buffers, Some(&phi));
             start += w;
         }
         if nr < nr_cap {
@@ -247,7 +248,7 @@ impl CraigBampton {
         drop(chol);
         for a in projected.iter_mut() {
             let mut aphi = Mat::<f64>::zeros(ni, n_modes);
-            spmm_by_transpose(aphi.as_mut(), Accum::Replace, &a.a_ii_t, phi.as_ref(), 1.0);
+            spmm_by_transpose(aphi.as_mut(), Accum::Replace, &a.a_ii_t, phi.as_ref(), 1.0, &buffers.gather);
             matmul(a.red.as_mut().submatrix_mut(nb, nb, n_modes, n_modes), Accum::Replace, phi.as_ref().transpose(), aphi.as_ref(), 1.0, par);
             // mode-boundary blocks: copy the lower block up, then symmetrise
             for j in nb..nr {
@@ -390,6 +391,26 @@ fn overlap_bounds() -> (usize, usize) {
     *OVERLAP_BOUNDS.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+/// The dense `n_i x BLOCK` columns of one boundary block, allocated once and reused by every
+/// block: a fresh `n_i x BLOCK` matrix per block costs the kernel a zeroed page per 4 kB
+/// (see [`SparseCholesky::solve_in_place`]'s workspace, which is kept the same way).
+struct BlockBuffers {
+    /// `Psi_B`.
+    psi: Mat<f64>,
+    /// `X_B`, one per projected matrix.
+    x: Vec<Mat<f64>>,
+    /// The transposed column blocks of the sparse products ([`spmm_t`]).
+    gather: MatPool,
+}
+
+/// The first `w` columns of `buf`, which is made `rows x cols` first if it is not.
+fn columns(buf: &mut Mat<f64>, rows: usize, cols: usize, w: usize) -> MatMut<'_, f64> {
+    if buf.nrows() != rows || buf.ncols() != cols {
+        *buf = Mat::zeros(rows, cols);
+    }
+    buf.as_mut().subcols_mut(0, w)
+}
+
 /// The boundary-column blocks of the reduction (the loop of
 /// [`CraigBampton::reduce_with_damping`]).
 struct CbBlocks<'a> {
@@ -424,39 +445,44 @@ impl CbBlocks<'_> {
         psi_all: Option<&Mat<f64>>,
         k_red: &mut Mat<f64>,
         projected: &mut [MassLike],
+        buffers: &mut BlockBuffers,
         phi: Option<&Mat<f64>>,
     ) -> Vec<Mat<f64>> {
         let (nb, ni) = (self.nb, self.ni);
         let par = faer::get_global_parallelism();
         let all_i = &self.all_i;
         let cols: Vec<usize> = (start..start + w).collect();
-        let psi = match psi_all {
-            Some(all) => all.as_ref().subcols(start, w).to_owned(),
+        let width = BLOCK.min(nb);
+        let mut psi = columns(&mut buffers.psi, ni, width, w);
+        match psi_all {
+            Some(all) => psi.copy_from(all.as_ref().subcols(start, w)),
             None => {
-                let mut psi = sparse_dense_block(self.k_ib, all_i, ni, &cols);
+                sparse_dense_block_into(psi.as_mut(), self.k_ib, all_i, &cols);
                 self.chol.solve_in_place(psi.as_mut());
                 psi *= faer::Scale(-1.0);
-                psi
             }
-        };
-        spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, psi.as_ref(), 1.0);
+        }
+        let psi = psi.as_ref();
+        spmm_t(k_red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, psi, 1.0, &buffers.gather);
         let mut kept = Vec::new();
-        for a in projected.iter_mut() {
-            let mut x = sparse_dense_block(&a.a_ib, all_i, ni, &cols);
-            spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi.as_ref(), 1.0);
-            spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi.as_ref(), 1.0);
+        buffers.x.resize_with(projected.len(), Mat::new);
+        for (a, x_buf) in projected.iter_mut().zip(buffers.x.iter_mut()) {
+            let mut x = columns(x_buf, ni, width, w);
+            sparse_dense_block_into(x.as_mut(), &a.a_ib, all_i, &cols);
+            spmm_by_transpose(x.as_mut(), Accum::Add, &a.a_ii_t, psi, 1.0, &buffers.gather);
+            spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, &a.a_ib, psi, 1.0, &buffers.gather);
             match phi {
                 Some(phi) => {
                     let n_modes = phi.ncols();
                     matmul(a.red.as_mut().submatrix_mut(nb, start, n_modes, w), Accum::Replace, phi.as_ref().transpose(), x.as_ref(), 1.0, par);
                 }
-                None => kept.push(x.clone()),
+                None => kept.push(x.to_owned()),
             }
             match psi_all {
                 Some(all) => matmul(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, all.as_ref().transpose(), x.as_ref(), 1.0, par),
                 None => {
                     self.chol.solve_in_place(x.as_mut());
-                    spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, x.as_ref(), -1.0);
+                    spmm_t(a.red.as_mut().submatrix_mut(0, start, nb, w), Accum::Add, self.k_ib, x.as_ref(), -1.0, &buffers.gather);
                 }
             }
         }

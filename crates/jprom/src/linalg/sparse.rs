@@ -108,9 +108,18 @@ pub(crate) fn sparse_submatrix(a: &SparseMat, row_map: &[usize], n_rows: usize, 
 
 /// Dense copy of a (small) submatrix `A[rows, cols]`.
 pub(crate) fn sparse_dense_block(a: &SparseMat, row_map: &[usize], n_rows: usize, cols: &[usize]) -> Mat<f64> {
+    let mut out = Mat::zeros(n_rows, cols.len());
+    sparse_dense_block_into(out.as_mut(), a, row_map, cols);
+    out
+}
+
+/// [`sparse_dense_block`] written into `out` (`n_rows x cols.len()`, overwritten), so that a
+/// loop over column blocks reuses one buffer.
+pub(crate) fn sparse_dense_block_into(out: MatMut<'_, f64>, a: &SparseMat, row_map: &[usize], cols: &[usize]) {
+    let mut out = out;
+    out.fill(0.0);
     let a = a.as_ref();
     let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    let mut out = Mat::zeros(n_rows, cols.len());
     for (lj, &j) in cols.iter().enumerate() {
         for k in cp[j]..cp[j + 1] {
             let r = row_map[ri[k]];
@@ -119,7 +128,6 @@ pub(crate) fn sparse_dense_block(a: &SparseMat, row_map: &[usize], n_rows: usize
             }
         }
     }
-    out
 }
 
 /// `out (+)= alpha * A X` for sparse `A` and dense `X`.
@@ -164,30 +172,64 @@ const GATHER_WIDTH: usize = 64;
 /// with scalar updates, on one thread; this form is vectorised along the rows of `X` (the
 /// Craig-Bampton blocks of the refinement-5 blade: 4.6x faster). The sums are formed in the
 /// order faer forms them for the transposed product (from zero, then `out += alpha * sum`), so
-/// the result is the same to the last bit.
-pub(crate) fn spmm_t(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
-    gather(out, accum, a, x, alpha, false);
+/// the result is the same to the last bit. The transposed blocks come from `scratch` and go
+/// back to it, so that a loop of products reuses them.
+pub(crate) fn spmm_t(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64, scratch: &MatPool) {
+    gather(out, accum, a, x, alpha, false, scratch);
 }
 
 /// `out (+)= alpha * A X` from `a_t` = [`sparse_transpose`]`(A)` by the kernel of [`spmm_t`],
 /// with faer's order for the product with a CSC matrix (each `a_ik (alpha x_k)` added onto
 /// `out` in ascending `k`), so the result is the same to the last bit.
-pub(crate) fn spmm_by_transpose(out: MatMut<'_, f64>, accum: Accum, a_t: &SparseMat, x: MatRef<'_, f64>, alpha: f64) {
-    gather(out, accum, a_t, x, alpha, true);
+pub(crate) fn spmm_by_transpose(out: MatMut<'_, f64>, accum: Accum, a_t: &SparseMat, x: MatRef<'_, f64>, alpha: f64, scratch: &MatPool) {
+    gather(out, accum, a_t, x, alpha, true, scratch);
+}
+
+/// Dense matrices kept for reuse: a loop that needs the same large temporaries on every pass
+/// takes them from here and gives them back, instead of asking the system for fresh pages (each
+/// zeroed by the kernel on first touch: on the 140,658-DoF blade's Craig-Bampton the fresh
+/// `X^T` blocks of [`spmm_t`] and the solves' workspaces cost about a sixth of the processor
+/// time). Holds what was given back until dropped.
+#[derive(Default)]
+pub(crate) struct MatPool(std::sync::Mutex<Vec<Mat<f64>>>);
+
+impl MatPool {
+    /// A `rows x cols` matrix of unspecified contents: one given back earlier, or a new one.
+    pub(crate) fn take(&self, rows: usize, cols: usize) -> Mat<f64> {
+        let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match kept.iter().position(|m| m.nrows() == rows && m.ncols() == cols) {
+            Some(i) => kept.swap_remove(i),
+            None => {
+                drop(kept);
+                Mat::zeros(rows, cols)
+            }
+        }
+    }
+
+    /// Gives `m` back for a later [`MatPool::take`].
+    pub(crate) fn give(&self, m: Mat<f64>) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).push(m);
+    }
 }
 
 /// The kernel of [`spmm_t`] and [`spmm_by_transpose`] (`onto`: start from `out` and add
-/// `a (alpha x)` term by term).
-fn gather(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64, onto: bool) {
+/// `a (alpha x)` term by term). Each block of [`GATHER_WIDTH`] columns is written into its own
+/// columns of `out`.
+fn gather(out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f64>, alpha: f64, onto: bool, scratch: &MatPool) {
     let a = a.as_ref();
     let (k, m, w) = (a.nrows(), a.ncols(), x.ncols());
     assert!(x.nrows() == k && out.nrows() == m && out.ncols() == w, "sparse gather product: A^T is {m} x {k}, X {} x {w}, out {} x {}", x.nrows(), out.nrows(), out.ncols());
     let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    let start = out.as_ref();
-    let block = |c0: usize| -> Mat<f64> {
-        let cw = GATHER_WIDTH.min(w - c0);
-        let mut xt = x.subcols(c0, cw).transpose().to_owned();
-        let mut yt = if onto && accum == Accum::Add { start.subcols(c0, cw).transpose().to_owned() } else { Mat::<f64>::zeros(cw, m) };
+    let block = |c0: usize, mut o: MatMut<'_, f64>| {
+        let cw = o.ncols();
+        let mut xt = scratch.take(cw, k);
+        xt.copy_from(x.subcols(c0, cw).transpose());
+        let mut yt = scratch.take(cw, m);
+        if onto && accum == Accum::Add {
+            yt.copy_from(o.as_ref().transpose());
+        } else {
+            yt.fill(0.0);
+        }
         if onto {
             xt *= faer::Scale(alpha);
         }
@@ -200,25 +242,32 @@ fn gather(mut out: MatMut<'_, f64>, accum: Accum, a: &SparseMat, x: MatRef<'_, f
                 }
             }
         }
-        yt
-    };
-    let starts: Vec<usize> = (0..w).step_by(GATHER_WIDTH).collect();
-    let blocks: Vec<Mat<f64>> = if starts.len() > 1 && faer::get_global_parallelism() != faer::Par::Seq {
-        use rayon::prelude::*;
-        starts.par_iter().map(|&c0| block(c0)).collect()
-    } else {
-        starts.iter().map(|&c0| block(c0)).collect()
-    };
-    for (&c0, yt) in starts.iter().zip(&blocks) {
-        let mut o = out.as_mut().subcols_mut(c0, yt.nrows());
         if onto {
             o.copy_from(yt.transpose());
-            continue;
+        } else {
+            match accum {
+                Accum::Replace => o.copy_from(yt.transpose() * faer::Scale(alpha)),
+                Accum::Add => o += yt.transpose() * faer::Scale(alpha),
+            }
         }
-        match accum {
-            Accum::Replace => o.copy_from(yt.transpose() * faer::Scale(alpha)),
-            Accum::Add => o += yt.transpose() * faer::Scale(alpha),
-        }
+        scratch.give(xt);
+        scratch.give(yt);
+    };
+    let mut chunks = Vec::with_capacity(w.div_ceil(GATHER_WIDTH));
+    let mut rest = out;
+    let mut c0 = 0;
+    while c0 < w {
+        let cw = GATHER_WIDTH.min(w - c0);
+        let (head, tail) = rest.split_at_col_mut(cw);
+        chunks.push((c0, head));
+        rest = tail;
+        c0 += cw;
+    }
+    if chunks.len() > 1 && faer::get_global_parallelism() != faer::Par::Seq {
+        use rayon::prelude::*;
+        chunks.into_par_iter().for_each(|(c0, o)| block(c0, o));
+    } else {
+        chunks.into_iter().for_each(|(c0, o)| block(c0, o));
     }
 }
 
@@ -285,11 +334,13 @@ mod tests {
         let (k, m) = (57, 41);
         let a = sample(k, m);
         let ad = sparse_to_dense(&a);
+        // One pool for all widths: later products reuse (dirty) blocks of earlier ones.
+        let pool = MatPool::default();
         for w in [1, 63, 64, 65, 150] {
             let x = Mat::from_fn(k, w, |i, j| ((i * 3 + j * 5) % 23) as f64 - 11.0);
             let y0 = Mat::from_fn(m, w, |i, j| (i + 2 * j) as f64);
             let mut y = y0.clone();
-            spmm_t(y.as_mut(), Accum::Add, &a, x.as_ref(), -0.5);
+            spmm_t(y.as_mut(), Accum::Add, &a, x.as_ref(), -0.5, &pool);
             let want = &y0 + ad.transpose() * &x * faer::Scale(-0.5);
             assert!((&y - &want).norm_max() <= 1e-12 * want.norm_max(), "w = {w}");
             // A X through the transpose.
@@ -298,7 +349,7 @@ mod tests {
             let xm = Mat::from_fn(m, w, |i, j| ((i * 7 + j) % 13) as f64);
             let z0 = Mat::from_fn(k, w, |i, j| (i * j % 5) as f64 * 0.1);
             let mut z = z0.clone();
-            spmm_by_transpose(z.as_mut(), Accum::Add, &at, xm.as_ref(), 2.0);
+            spmm_by_transpose(z.as_mut(), Accum::Add, &at, xm.as_ref(), 2.0, &pool);
             let want = &z0 + &ad * &xm * faer::Scale(2.0);
             assert!((&z - &want).norm_max() <= 1e-12 * want.norm_max(), "w = {w}");
             // The same bits as faer's products.
