@@ -38,11 +38,21 @@ static GLOBAL: Counting = Counting;
 /// The tests of this file count the whole process's allocations: one at a time.
 static SERIAL: Mutex<()> = Mutex::new(());
 
-/// `solve_point` and the allocations it made.
+/// `solve_point` and the allocations it made: the fewest of three identical solves. The counter
+/// sees the whole process, and the test harness's own thread allocates while it reports the
+/// previous test (CI once saw 108 against 100 for the same solve); other threads can only add
+/// allocations, so the minimum is the solve's own count, and an allocation per iteration shows
+/// in every repetition.
 fn counted(sys: &FullSystem, omega: f64, guess: Option<&[f64]>, opts: &HbmOptions) -> (PointSolution, usize) {
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
-    let p = solve_point(sys, omega, guess, opts).unwrap_or_else(|e| panic!("omega = {omega}: {e}"));
-    (p, ALLOCATIONS.load(Ordering::SeqCst) - before)
+    let mut fewest = usize::MAX;
+    let mut solution = None;
+    for _ in 0..3 {
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let p = solve_point(sys, omega, guess, opts).unwrap_or_else(|e| panic!("omega = {omega}: {e}"));
+        fewest = fewest.min(ALLOCATIONS.load(Ordering::SeqCst) - before);
+        solution = Some(p);
+    }
+    (solution.expect("three solves"), fewest)
 }
 
 /// Solves the point at `omega` from zero and from a nearby point's solution, and checks that

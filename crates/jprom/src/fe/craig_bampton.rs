@@ -22,7 +22,11 @@
 //! splits its columns among the threads ([`SparseCholesky::solve_in_place`], the same bits as
 //! faer's solve): on the refinement-15 blade (140,658 DoFs, 5,793 boundary DoFs, 50 modes)
 //! 158 s at 4.2 GB (267 s with faer's solve, 573 s with faer's product as well). The
-//! fixed-interface modes run alongside the first blocks (see below): 143 s at 4.7 GB.
+//! fixed-interface modes run alongside the first blocks (see below): 143 s at 4.7 GB. The
+//! large temporaries (`Psi_B`, `X_B`, the products' transposed blocks, the solves' workspaces)
+//! are allocated once and reused by every block ([`BlockBuffers`]): fresh ones cost the kernel
+//! a zeroed page per 4 kB touched, 47 s of system time in that reduction. Now 105 s at 4.9 GB
+//! (test profile, two cores), the same bits throughout.
 
 use crate::linalg::lanczos::{lowest_modes, SparseCholesky};
 use crate::linalg::sparse::{sparse_dense_block, sparse_dense_block_into, sparse_submatrix, sparse_transpose, spmm_by_transpose, spmm_t, MatPool, SparseMat};
@@ -32,15 +36,18 @@ use faer::{Accum, Mat, MatMut};
 
 /// Estimated bytes of the dense parts of a Craig-Bampton reduction with `ni` interior and `nb`
 /// boundary DoFs and up to `n_modes` fixed-interface modes: the reduced `K`, `M` (and `C`) and
-/// `K_bb`, the modes with the Lanczos vectors (`3 n_modes` of length `ni`), three
-/// `n_i x min(256, n_b)` column blocks, the blocks kept while the modes are computed
+/// `K_bb`, the modes with the Lanczos vectors (`3 n_modes` of length `ni`), the
+/// `n_i x min(256, n_b)` column blocks kept across boundary blocks (`Psi_B`, one `X_B` per
+/// projected matrix, the products' transposed blocks, the solves' workspaces, and one spare
+/// for the products' outputs), the blocks kept while the modes are computed
 /// ([`OVERLAP_BLOCKS`] per projected matrix), and with `keep_recovery` the constraint modes `Psi` (`n_i x n_b`). The sparse
 /// factor of `K_ii` comes on top (its fill is known only once it is factored).
 pub fn working_set_bytes(ni: usize, nb: usize, n_modes: usize, damping: bool, keep_recovery: bool) -> u128 {
     use crate::memory::{bytes_of, product};
     let nr = nb.saturating_add(n_modes);
     let reduced = product(&[3 + damping as usize, nr, nr]);
-    let vectors = product(&[ni, 3usize.saturating_mul(n_modes).saturating_add(3 * BLOCK.min(nb))]);
+    let blocks = 4 + 1 + damping as usize;
+    let vectors = product(&[ni, 3usize.saturating_mul(n_modes).saturating_add(blocks * BLOCK.min(nb))]);
     let overlap = product(&[OVERLAP_BLOCKS, 1 + damping as usize, ni, BLOCK.min(nb)]);
     let psi = if keep_recovery { product(&[ni, nb]) } else { 0 };
     bytes_of::<f64>(reduced.saturating_add(vectors).saturating_add(overlap).saturating_add(psi))

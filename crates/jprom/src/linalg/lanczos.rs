@@ -128,7 +128,8 @@ impl SparseCholesky {
     /// below; faer's supernodal solve runs the supernodes in sequence and shares only each
     /// supernode's small products among the threads, which left them mostly waiting). The
     /// Craig-Bampton of the refinement-8 blade (61,404 DoFs, blocks of 256 boundary columns)
-    /// 31.1 -> 22.2 s, of the refinement-15 blade (140,658 DoFs) 267 -> 158 s.
+    /// 31.1 -> 22.2 s, of the refinement-15 blade (140,658 DoFs) 267 -> 158 s. The solves'
+    /// workspaces are kept between calls ([`SparseCholesky::with_scratch`]).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let threads = match par() {
             Par::Seq => 1,
