@@ -26,7 +26,9 @@
 //! and without), the same call in the test profile (quiet machine): refinement 15 573 -> 267 ->
 //! 158 s at 4.2 GB, refinement 8 (61,404 DoFs) 68 -> 31.1 -> 22.2 s; with the fixed-interface
 //! modes computed alongside the first boundary blocks (the same bits again) refinement 15
-//! 143 s at 4.7 GB, refinement 8 17.8 s. An earlier variant that
+//! 143 s at 4.7 GB, refinement 8 17.8 s; with the block buffers reused and the solves visiting
+//! only the supernodes that matter (the same bits) this bench's Craig-Bampton stage 124.9 s at
+//! 5.05 GB peak (release; 113 s in the test profile). An earlier variant that
 //! also ran the Lanczos half solves on one thread and summed four entries per pass took
 //! refinement 15 to 138 s, but those two change the rounding of the reduced model, and the
 //! principal-angle bounds of tests/jp_reference.rs (1e-8) then failed (1.1e-8 to 2.8e-8).
