@@ -33,17 +33,20 @@
 //! refinement 15 to 138 s, but those two change the rounding of the reduced model, and the
 //! principal-angle bounds of tests/jp_reference.rs (1e-8) then failed (1.1e-8 to 2.8e-8).
 //!
-//! Cost growth with the contact count (today's columns, H = 1, 8 samples, quiet machine,
-//! cached CB; `JPROM_2K_REFINEMENT` = 1, 5, 15):
+//! Cost growth with the contact count (H = 1, 8 samples, release, cached CB, 2026-12-03 at
+//! 4163e0b; `JPROM_2K_REFINEMENT` = 1, 5, 15; the stage table is saved under
+//! `target/bench-results/`):
 //!
 //! | contacts | n_w | basis s | sizes | FR s/point | NLR s/point | e*_1 (FR) | peak RSS |
 //! |---|---|---|---|---|---|---|---|
-//! | 18 | 54 | 0.2 (per pattern, dense eigen solve) | [30, 9] | 0.002 | 0.006 | 0.040 | 0.3 GB |
-//! | 242 | 726 | 3.4 (shared reference) | [34, 8] | 0.036 | 0.036 | 0.056 | 0.4 GB |
-//! | 1,922 | 5,766 | 493 (shared reference) | [32, 10] | 0.247 | 0.246 | 0.040 | 8.1 GB |
+//! | 18 | 54 | < 0.05 (per pattern, dense eigen solve) | [30, 9] | 0.001 | 0.001 | 0.040 | 0.4 GB (with CB) |
+//! | 242 | 726 | 1.5 (shared reference) | [34, 8] | 0.017 | 0.012 | 0.056 | 1.1 GB (with CB) |
+//! | 1,922 | 5,766 | 259.7 (shared reference) | [32, 10] | 0.126 | 0.118 | 0.040 | 6.5 GB |
 //!
-//! Exponents `d ln t / d ln n_c`: basis 1.1 (18 to 242), 2.4 (242 to 1,922), 1.7 overall; FR
-//! per point 1.1, 0.9, 1.0 overall; NLR per point 0.7, 0.9, 0.8 overall. The basis grows
+//! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
+//! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
+//! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
+//! times being at the 1 ms resolution of the table). The basis grows
 //! super-linearly past a few hundred contacts because the patterns at the largest amplitudes
 //! (most contacts slipping) differ from the reference (the first, near-stuck sample) at every
 //! contact, and such a fully active pattern factorises a `2H n_w` capacitance matrix.
