@@ -9,9 +9,11 @@
 //!
 //! Measured (2 cores, quiet machine, 2026-12-01): 60k (60,147 DoFs, 41 tip contacts) CB 13.5 s;
 //! 200k (200,385 DoFs, 61 tip contacts, factor of `K_ii` 186 M values) assembly 7.3 s, CB 87 s
-//! (91.7 s and 99.6 s in all on main at 74d3a2d),
-//! 3.3 GB peak, with the Lanczos subspace of `3 n_modes` that `linalg::lanczos` uses above
-//! `LARGE_MODEL_DOFS` (with `2 n_modes` its modes had not converged after 14 min).
+//! (91.7 s and 99.6 s in all on main at 74d3a2d), 3.3 GB peak, with the Lanczos subspace of
+//! `3 n_modes` that `linalg::lanczos` uses above `LARGE_MODEL_DOFS` (with `2 n_modes` its
+//! modes had not converged after 14 min). 2026-12-03 at 4163e0b (the modes alongside the
+//! boundary blocks, the block buffers reused, the pruned solves): 200k assembly 4.9 s,
+//! CB 45.1 s, 50.2 s in all, 4.7 GB peak.
 
 mod common;
 
