@@ -33,16 +33,17 @@
 //! refinement 15 to 138 s, but those two change the rounding of the reduced model, and the
 //! principal-angle bounds of tests/jp_reference.rs (1e-8) then failed (1.1e-8 to 2.8e-8).
 //!
-//! Cost growth with the contact count (H = 1, 8 samples, release, cached CB, 2026-12-03 at
-//! 4163e0b; `JPROM_2K_REFINEMENT` = 1, 5, 15; the stage table is saved under
-//! `target/bench-results/`):
+//! Cost growth with the contact count (H = 1, 8 samples, release, cached CB, 2026-12-03, with
+//! `dS` applied by its factors; `JPROM_2K_REFINEMENT` = 1, 5, 15; the stage table is saved
+//! under `target/bench-results/`):
 //!
 //! | contacts | n_w | basis s | sizes | FR s/point | NLR s/point | e*_1 (FR) | peak RSS |
 //! |---|---|---|---|---|---|---|---|
-//! | 18 | 54 | < 0.05 (per pattern, dense eigen solve) | [30, 9] | 0.001 | 0.001 | 0.040 | 0.4 GB (with CB) |
-//! | 242 | 726 | 1.5 (shared reference) | [34, 8] | 0.017 | 0.012 | 0.056 | 1.1 GB (with CB) |
-//! | 1,922 | 5,766 | 259.7 (shared reference) | [32, 10] | 0.126 | 0.118 | 0.040 | 6.5 GB |
+//! | 18 | 54 | < 0.05 (per pattern, dense eigen solve) | [30, 9] | 0.001 | 0.001 | 0.040 | 16 MB |
+//! | 242 | 726 | 1.3 (shared reference) | [34, 8] | 0.016 | 0.011 | 0.056 | 0.33 GB |
+//! | 1,922 | 5,766 | 233.9 (shared reference) | [32, 10] | 0.120 | 0.114 | 0.040 | 6.8 GB |
 //!
+//! (Before `dS` by its factors, 4163e0b: 259.7 s at 1,922 contacts, 1.5 s at 242.)
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact

@@ -93,6 +93,57 @@ pub struct CondensedProblem<'a> {
     s: Mat<f64>,
     /// The reference whose factorisations the shifted solves use.
     reference: Option<&'a ReferenceFactors>,
+    /// On a reference, the factors of `S` (see [`ActiveCondensation`]).
+    factors: Option<ActiveCondensation<'a>>,
+}
+
+/// `S = ΔS_ij = D_ij - D_i0 g_aa D_0j` of a pattern on a reference, by its factors: the
+/// contact blocks `D_kl` (block diagonal, one `d x d` block per active contact) and `g_aa`
+/// (dense, `r` square). `S X` then costs `O(H^2 r d k + r^2 k)` instead of `O(H^2 r^2 k)`,
+/// and the capacitance `S R` (`R` block diagonal per coefficient) `2 (2H) r^3` instead of
+/// `2 (2H)^2 r^3` flops.
+#[derive(Debug, Clone, Copy)]
+struct ActiveCondensation<'a> {
+    part: &'a ActivePart,
+    g_aa: &'a Mat<f64>,
+}
+
+impl ActiveCondensation<'_> {
+    /// `S X` for `X` (`2 H r x k`, coefficient blocks `1..=2H`).
+    fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let r = self.part.len();
+        let nj = x.nrows() / r.max(1);
+        let k = x.ncols();
+        // v = sum_j D_0j x_j, t = g_aa v
+        let mut v = Mat::<f64>::zeros(r, k);
+        for cj in 1..=nj {
+            v += self.part.block_times(0, cj, x.submatrix((cj - 1) * r, 0, r, k));
+        }
+        let t = self.g_aa * &v;
+        let mut out = Mat::<f64>::zeros(nj * r, k);
+        for ci in 1..=nj {
+            let mut oi = out.as_mut().submatrix_mut((ci - 1) * r, 0, r, k);
+            for cj in 1..=nj {
+                oi += self.part.block_times(ci, cj, x.submatrix((cj - 1) * r, 0, r, k));
+            }
+            oi -= self.part.block_times(ci, 0, t.as_ref());
+        }
+        out
+    }
+
+    /// The column block `cj` (`1..=2H`) of `S`, times `x` (`r x k`): `2 H r x k`.
+    fn column_block_times(&self, cj: usize, nj: usize, x: MatRef<'_, f64>) -> Mat<f64> {
+        let r = self.part.len();
+        let k = x.ncols();
+        let t = self.g_aa * self.part.block_times(0, cj, x);
+        let mut out = Mat::<f64>::zeros(nj * r, k);
+        for ci in 1..=nj {
+            let mut oi = out.as_mut().submatrix_mut((ci - 1) * r, 0, r, k);
+            oi += self.part.block_times(ci, cj, x);
+            oi -= self.part.block_times(ci, 0, t.as_ref());
+        }
+        out
+    }
 }
 
 impl<'a> CondensedProblem<'a> {
@@ -111,14 +162,23 @@ impl<'a> CondensedProblem<'a> {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
         let s = super::condensed::contact_condensation(coords, k_hat, g_ww);
-        Ok(CondensedProblem { coords, harmonics: hh, base: &coords.stiffness, rows: (0..nw).collect(), s, reference: None })
+        Ok(CondensedProblem { coords, harmonics: hh, base: &coords.stiffness, rows: (0..nw).collect(), s, reference: None, factors: None })
     }
 
     /// The condensed problem of the pattern `part` on `reference`: `K_b = A_ref`,
     /// `S = ΔS_ij = D_ij - D_i0 g_aa D_0j` on the active coordinates.
-    pub fn on_reference(coords: &'a ContactCoordinates, reference: &'a ReferenceFactors, part: &ActivePart, g_aa: &Mat<f64>) -> Self {
+    pub fn on_reference(coords: &'a ContactCoordinates, reference: &'a ReferenceFactors, part: &'a ActivePart, g_aa: &'a Mat<f64>) -> Self {
         let s = super::reference::active_condensation(part, g_aa);
-        CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), s, reference: Some(reference) }
+        let factors = Some(ActiveCondensation { part, g_aa });
+        CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), s, reference: Some(reference), factors }
+    }
+
+    /// `S X` (`X` of `2 H r` rows), by the factors of `S` where the problem has them.
+    fn s_times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        match &self.factors {
+            Some(f) => f.times(x),
+            None => &self.s * x,
+        }
     }
 
     /// Size `2 H n` of the condensed problem.
@@ -143,7 +203,7 @@ impl<'a> CondensedProblem<'a> {
         }
         let r = self.rows.len();
         let ex = gather(x, n, &self.rows, nj);
-        let sex = &self.s * &ex;
+        let sex = self.s_times(ex.as_ref());
         for c in 0..nj {
             for j in 0..k {
                 for (a, &i) in self.rows.iter().enumerate() {
@@ -341,7 +401,10 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                 for cj in 0..nj {
                     let yc: &Mat<f64> = &y[cj / 2];
                     let rr = Mat::from_fn(r, r, |q, j| yc[(problem.rows[q], j)]);
-                    let sr = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
+                    let sr = match &problem.factors {
+                        Some(f) => f.column_block_times(cj + 1, nj, rr.as_ref()),
+                        None => problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr,
+                    };
                     let mut blk = cap.as_mut().submatrix_mut(0, cj * r, nj * r, r);
                     blk += &sr;
                 }
@@ -392,7 +455,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     return x;
                 }
                 // u = (I + S R)^-1 S E_r x0; x = x0 - B^-1 E_r^T u.
-                let sex = &self.problem.s * gather(x.as_ref(), n, &self.problem.rows, nj);
+                let sex = self.problem.s_times(gather(x.as_ref(), n, &self.problem.rows, nj).as_ref());
                 let u = cap.solve(&sex);
                 for c in 0..nj {
                     let corr = &y[c / 2] * u.as_ref().submatrix(c * r, 0, r, k);
