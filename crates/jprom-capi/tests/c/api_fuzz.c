@@ -13,8 +13,13 @@
  * length passed with it (the library cannot check that, by the C API's contract); hostile
  * lengths come with NULL or with buffers that are long enough.
  *
- * Usage: api_fuzz CALLS SEED SCRATCH_DIR. Prints a summary; exits 1 on any violation. */
+ * Usage: api_fuzz CALLS SEED SCRATCH_DIR. Prints a summary; exits 1 on any violation. On
+ * SIGTERM (the caller's timeout) it prints the number of calls done and the last that
+ * returned, so that a stall names the call after it. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <signal.h>
+#include <unistd.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,8 +68,23 @@ static void violation(const char *fn, const char *what) {
     violations++;
 }
 
+/* The last call that returned (for the SIGTERM report). */
+static const char *volatile last_returned = "(none)";
+
+static void on_term(int sig) {
+    (void)sig;
+    char line[256];
+    int len = snprintf(line, sizeof line, "api_fuzz: stopped after %ld calls; the last that returned: %s\n", calls, last_returned);
+    if (len > 0) {
+        ssize_t w = write(STDOUT_FILENO, line, (size_t)len < sizeof line ? (size_t)len : sizeof line - 1);
+        (void)w;
+    }
+    _exit(124);
+}
+
 /* Checks one call's status and message; returns the status. */
 static jprom_status seen(const char *fn, jprom_status s) {
+    last_returned = fn;
     calls++;
     int code = (int)s;
     if (code < 0 || code > 11) {
@@ -540,6 +560,8 @@ int main(int argc, char **argv) {
     long n = argc > 1 ? atol(argv[1]) : 100000;
     rng_state ^= argc > 2 ? strtoull(argv[2], NULL, 10) * 0x9E3779B97F4A7C15ull + 1 : 1;
     snprintf(scratch, sizeof scratch, "%s", argc > 3 ? argv[3] : "/tmp");
+    signal(SIGTERM, on_term);
+    setvbuf(stdout, NULL, _IOLBF, 0);
     for (size_t i = 0; i < 4; ++i) models[i] = chain(1 + i, (int)(i % 3));
     while (calls < n) one_call();
     /* free everything left, then no handle may remain */
