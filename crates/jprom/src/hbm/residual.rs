@@ -339,26 +339,30 @@ fn scatter_contact_jacobian(system: &dyn HarmonicSystem, forces: &ContactForces,
             }
         }
     }
-    let mut g = Mat::<f64>::zeros(rows, nt);
+    // G is formed transposed (`nt x rows`), so that each of its rows is a contiguous axpy of
+    // a row of Wall (a column of Wall^T) of length `nt`: every entry is summed in the same
+    // order as `sum_q K̂_rq Wall_q` would be, so the bits are those of the row-by-row product.
+    let wall_t = wall.transpose().to_owned();
+    let mut g_t = Mat::<f64>::zeros(nt, rows);
     for (c, law) in laws.iter().enumerate() {
         let d = law.dim();
         let n = d * n_coeffs;
         let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + n * n];
         let o = offsets[c];
         let grow = |local: usize| (local / d) * n_w + o + local % d;
-        for col in 0..nt {
-            for r in 0..n {
-                let mut s = 0.0;
-                for q in 0..n {
-                    let kv = block[r + q * n];
-                    if kv != 0.0 {
-                        s += kv * wall[(grow(q), col)];
+        for r in 0..n {
+            let gr = g_t.col_as_slice_mut(grow(r));
+            for q in 0..n {
+                let kv = block[r + q * n];
+                if kv != 0.0 {
+                    for (g, w) in gr.iter_mut().zip(wall_t.col_as_slice(grow(q))) {
+                        *g += kv * w;
                     }
                 }
-                g[(grow(r), col)] = s;
             }
         }
     }
+    let g = g_t.transpose().to_owned();
     faer::linalg::matmul::matmul(jac.as_mut(), Accum::Add, wall.transpose(), g.as_ref(), 1.0, Par::Seq);
 }
 
