@@ -950,6 +950,7 @@ fn reduced_level(
         kind,
         threshold: run.study.basis.error_threshold,
         max_corrections: run.study.basis.max_corrections,
+        regeneration_samples: run.study.basis.regeneration_samples,
         response_output: run.response,
         ..AdaptiveOptions::default()
     };

@@ -36,6 +36,7 @@
 //! samples = 100
 //! error_threshold = 0.05
 //! max_corrections = 5
+//! regeneration_samples = 10
 //!
 //! [solvers]
 //! full_order = true
@@ -125,7 +126,7 @@
 //!
 //! Unknown keys are errors, and every error names the offending key and its line. Sizes have
 //! documented caps ([`jprom::limits`]): `hbm.nt` <= 65536, `band.points` <= 100000,
-//! `basis.samples` <= 10000, `model.cb_modes` <= 5000, `model.refinement` <= 15.
+//! `basis.samples` and `basis.regeneration_samples` <= 10000, `model.cb_modes` <= 5000, `model.refinement` <= 15.
 
 use jprom::fe::BladeParams;
 use jprom::error::{JpError, Result};
@@ -792,6 +793,8 @@ pub struct BasisSpec {
     pub error_threshold: f64,
     /// Most basis corrections of the self-correcting sweep per level and ROM.
     pub max_corrections: usize,
+    /// `p̂` samples of a correction's regeneration (`jprom::rom::AdaptiveOptions::regeneration_samples`).
+    pub regeneration_samples: usize,
     /// JP eigenpairs kept beyond the band, nearest first (`ModeOptions::extra_outside`): at
     /// gross slip the slipping mode leaves the band, and the in-band ones alone may miss it.
     pub extra_modes: usize,
@@ -808,7 +811,7 @@ pub struct BasisSpec {
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, extra_modes: 2, slipping: SlippingSpec::Never, gamma_study: Vec::new() }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, regeneration_samples: jprom::rom::REGENERATION_SAMPLES, extra_modes: 2, slipping: SlippingSpec::Never, gamma_study: Vec::new() }
     }
 }
 
@@ -1223,6 +1226,12 @@ impl Study {
         }
         if self.basis.samples > MAX_SAMPLES {
             return over("basis.samples", self.basis.samples, MAX_SAMPLES, "amplitude samples of the prediction");
+        }
+        if self.basis.regeneration_samples < 1 {
+            return bad("basis.regeneration_samples", format!("must be at least 1, got {}", self.basis.regeneration_samples));
+        }
+        if self.basis.regeneration_samples > MAX_SAMPLES {
+            return over("basis.regeneration_samples", self.basis.regeneration_samples, MAX_SAMPLES, "amplitude samples of a regeneration");
         }
         if !(self.basis.error_threshold.is_finite() && self.basis.error_threshold > 0.0) {
             return bad("basis.error_threshold", format!("must be finite and > 0, got {}", self.basis.error_threshold));

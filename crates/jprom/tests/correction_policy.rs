@@ -48,4 +48,12 @@ fn gross_slip_regeneration_is_followed_by_a_gamma_step() {
     assert_eq!(out.end, CorrectionEnd::WithinThreshold, "judged error {:.3e}", out.worst_error);
     assert!(out.worst_error <= aopts.threshold);
     assert!(steps.len() <= 3, "{} correction steps: {steps:?}", steps.len());
+    // the final basis comes from a regeneration, sampled at regeneration_samples amplitudes
+    // along the reduced solution, not at the first basis' n_samples
+    assert_eq!(out.prediction.n_samples, aopts.regeneration_samples);
+    assert!(out.prediction.n_samples < popts.n_samples);
+    let none = AdaptiveOptions { regeneration_samples: 0, ..aopts.clone() };
+    let initial = predict_basis(&coords, &popts).unwrap();
+    let refused = adaptive_sweep_from(&coords, Some(&cond), initial, &popts, &sopts, &HbmOptions::default(), &none, &mut |_, _| ControlFlow::Continue(()));
+    assert!(matches!(refused, Err(jprom::error::JpError::InvalidValue { .. })), "regeneration_samples = 0 must be refused");
 }

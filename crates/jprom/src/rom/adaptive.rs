@@ -76,11 +76,28 @@ pub struct AdaptiveOptions {
     /// linearised error is checked (default 0, the first output).
     #[serde(default)]
     pub response_output: usize,
+    /// `p̂` samples of a regeneration's prediction, along the reduced solution it starts from
+    /// (default [`REGENERATION_SAMPLES`] = 10; the first basis takes the prediction options'
+    /// `n_samples`). See [`REGENERATION_SAMPLES`] for why fewer.
+    #[serde(default = "regeneration_samples_default")]
+    pub regeneration_samples: usize,
+}
+
+/// Default [`AdaptiveOptions::regeneration_samples`]. A regeneration's generating shape is a
+/// reduced solution, whose contact states are those near `p̂ = 1`, where the first basis' 100
+/// samples span the stuck mode from first slip to the largest level. Along a gross-slip
+/// solution nearly every one of 100 samples is a pattern of its own on 98 and 242 contact
+/// nodes, so a regeneration cost as much as the first basis and added as many modes; with 10
+/// the bases are smaller and as accurate (docs/formulation.md §8.9, measured there).
+pub const REGENERATION_SAMPLES: usize = 10;
+
+fn regeneration_samples_default() -> usize {
+    REGENERATION_SAMPLES
 }
 
 impl Default for AdaptiveOptions {
     fn default() -> Self {
-        AdaptiveOptions { kind: RomKind::Fr, threshold: POOR_BASIS_THRESHOLD, max_corrections: 5, gamma_growth: 10.0, max_gamma: 1e6, verify: true, response_output: 0 }
+        AdaptiveOptions { kind: RomKind::Fr, threshold: POOR_BASIS_THRESHOLD, max_corrections: 5, gamma_growth: 10.0, max_gamma: 1e6, verify: true, response_output: 0, regeneration_samples: REGENERATION_SAMPLES }
     }
 }
 
@@ -297,6 +314,9 @@ fn check_options(aopts: &AdaptiveOptions) -> Result<()> {
     if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
         return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
     }
+    if aopts.regeneration_samples == 0 {
+        return Err(JpError::invalid("AdaptiveOptions.regeneration_samples", "must be >= 1"));
+    }
     Ok(())
 }
 
@@ -434,6 +454,7 @@ pub fn adaptive_sweep_from(
             let q = rom.full_coefficients(p.omega, &p.z)?;
             popts.shape = GeneratingShape::Given { static_part: Some(q[0].clone()), cos: q[1].clone(), sin: q[2].clone() };
             popts.p_max = None;
+            popts.n_samples = aopts.regeneration_samples;
             CorrectionKind::Regenerated { from_omega: p.omega }
         } else {
             popts.gamma = (popts.gamma * aopts.gamma_growth).min(aopts.max_gamma);

@@ -11,7 +11,7 @@ pub mod fr;
 pub mod nlr;
 pub mod record;
 
-pub use adaptive::{adaptive_sweep, adaptive_sweep_from, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck};
+pub use adaptive::{adaptive_sweep, adaptive_sweep_from, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck, REGENERATION_SAMPLES};
 pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
 pub use record::{CorrectionOutcome, SweepRecord};
