@@ -73,6 +73,19 @@ pub(crate) const CORNER_RATIO: f64 = 0.7;
 /// in a friction-damped resonance whose stick-slip kinks needed 47 (tests/sweep_restarts.rs).
 pub(crate) const MAX_RESTARTS: usize = 1000;
 
+/// Whether a step (`(length, turn)`) turned as a kink does, judged against the step before it:
+/// it is at most 3/4 as long, and yet turned more than `max_angle / 2` and at least
+/// [`CORNER_RATIO`] as much. On a smooth branch the turn shrinks with the step; where contacts
+/// change state at every few hundredths of a hertz (NLR on the 98-contact blade at
+/// `alpha_ST / 20`: turns of 0.2 to 0.45 rad at steps from 1e-5 to 1e-2) it does not, and
+/// shortening the steps for it only adds points (that sweep took 1,385 points, 1,280 of them
+/// within 40 Hz of the resonance). From the first such step on, turns below the sharp turn
+/// ([`sharp_turn`], which is still retried shorter) no longer shorten the steps below its
+/// length (docs/formulation.md §6.5).
+pub(crate) fn is_kink_turn((ds_last, angle_last): (f64, f64), (ds, angle): (f64, f64), sopts: &SweepOptions) -> bool {
+    ds <= 0.75 * ds_last && angle > 0.5 * sopts.max_angle && angle >= CORNER_RATIO * angle_last
+}
+
 /// The turn between successive chords above which a step is retried shorter: three times
 /// `max_angle`, at least 0.5 rad.
 pub(crate) fn sharp_turn(sopts: &SweepOptions) -> f64 {
@@ -473,6 +486,10 @@ pub fn sweep_from(
     let mut ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
     // the turn per unit arclength of the last smooth step (None after a corner or a restart)
     let mut last_curvature: Option<f64> = None;
+    // the length and turn of the last smooth step, and the length below which turns do not
+    // shorten the steps (`kink_floor`, see `is_kink_turn`)
+    let mut last_step: Option<(f64, f64)> = None;
+    let mut kink_floor: Option<f64> = None;
     loop {
         if result.points.len() >= sopts.max_points {
             let omega = y[n];
@@ -572,6 +589,8 @@ pub fn sweep_from(
             result.restarts.push(omega);
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
             last_curvature = None;
+            last_step = None;
+            kink_floor = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &orient, metric, corrected.y[n])?
@@ -581,6 +600,7 @@ pub fn sweep_from(
             // the two pieces, a poor predictor)
             ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
             last_curvature = None;
+            last_step = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
             tangent(&top.expect("jacobian requested"), &chord, metric, corrected.y[n])?
@@ -594,7 +614,16 @@ pub fn sweep_from(
             let smooth = last_curvature.map_or(curvature, |k| k.min(curvature));
             last_curvature = Some(curvature);
             let f_angle = if smooth > 0.0 { (0.5 * sopts.max_angle / (smooth * ds)).clamp(0.5, 2.0) } else { 2.0 };
-            ds = (ds * f_iter.min(f_angle)).clamp(sopts.min_step, sopts.max_step);
+            if last_step.is_some_and(|last| is_kink_turn(last, (ds, angle), sopts)) {
+                kink_floor = Some(kink_floor.map_or(ds, |f| f.max(ds)));
+            }
+            last_step = Some((ds, angle));
+            let mut next = ds * f_iter.min(f_angle);
+            if let Some(floor) = kink_floor.filter(|_| f_angle < f_iter) {
+                // a turn the step's length does not set shortens the step no further
+                next = next.max(floor.min(ds));
+            }
+            ds = next.clamp(sopts.min_step, sopts.max_step);
             chord
         };
         let new_omega = corrected.y[n];
@@ -661,6 +690,23 @@ mod tests {
         let exc = Excitation { static_force: vec![0.0; n], harmonics: vec![HarmonicForce { cos: f1, sin: vec![0.0; n] }], dynamic_scale: 1.0 };
         let contacts = (0..n).map(|i| Contact::jenkins(i, None, 0.5, 0.05, 1.0)).collect();
         Model::new(Mat::identity(n, n), k, Damping { mass_coeff: 0.0, stiffness_coeff: 0.01 }, exc, contacts, vec![n - 1]).unwrap()
+    }
+
+    /// A turn that shrinks with the step is curvature; one that does not, at a shorter step,
+    /// is a kink (docs/formulation.md §6.5); small turns never count.
+    #[test]
+    fn turns_that_do_not_shrink_with_the_step_are_kinks() {
+        let sopts = SweepOptions::band(1.0, 2.0);
+        let a = sopts.max_angle;
+        // smooth: half the step, half the turn
+        assert!(!is_kink_turn((0.02, 2.0 * a), (0.01, a), &sopts));
+        // kink: half the step, the same turn (the 98-contact NLR's 0.35 rad at 0.044 and 0.022)
+        assert!(is_kink_turn((0.044, 0.336), (0.022, 0.349), &sopts));
+        assert!(is_kink_turn((0.02, 2.0 * a), (0.01, 1.5 * a), &sopts));
+        // not shorter: no evidence either way
+        assert!(!is_kink_turn((0.01, 2.0 * a), (0.01, 2.0 * a), &sopts));
+        // turns within the aim of the step control are not kinks
+        assert!(!is_kink_turn((0.02, 0.4 * a), (0.01, 0.45 * a), &sopts));
     }
 
     /// The corrector's evaluations (linear part, residual, Jacobian, `dR/domega`, bordered
