@@ -16,7 +16,7 @@ use crate::aft::{evaluate_contacts, AftPlan, ContactCycle, ContactForces};
 use crate::error::{JpError, Result};
 use crate::linalg::sparse::{check_triplets, sparse_from_triplets_in};
 use crate::linalg::{sparse_from_triplets, Matrix, SparseMat};
-use faer::{Accum, Mat, Par};
+use faer::{Accum, Mat, MatRef, Par};
 
 /// Scratch memory of [`evaluate`], reused across Newton iterations.
 #[derive(Default)]
@@ -226,6 +226,17 @@ fn gather_contact_coords(system: &dyn HarmonicSystem, z: &[f64], w_all: &mut Vec
         let dst = &mut w_all[k * n_w..(k + 1) * n_w];
         match system.contact_map(h) {
             ContactMap::Leading => dst.copy_from_slice(&z[off..off + n_w]),
+            ContactMap::Dense(w) if w.row_stride() == 1 => {
+                // W_k z_k as a sum of W_k's (contiguous) columns
+                dst.fill(0.0);
+                for j in 0..n {
+                    let zj = z[off + j];
+                    let col = w.col(j).try_as_col_major().expect("row stride 1").as_slice();
+                    for (d, wv) in dst.iter_mut().zip(col) {
+                        *d += wv * zj;
+                    }
+                }
+            }
             ContactMap::Dense(w) => {
                 for i in 0..n_w {
                     dst[i] = (0..n).map(|j| w[(i, j)] * z[off + j]).sum();
@@ -316,54 +327,56 @@ fn scatter_contact_jacobian(system: &dyn HarmonicSystem, forces: &ContactForces,
         }
         return;
     }
-    // Dense map: Wall ((2H+1) n_w x N_tot, harmonic-major rows), G = K̂ Wall contact by
-    // contact, then J += Wall^T G.
-    let nt = layout.total();
-    let rows = n_coeffs * n_w;
-    let mut wall = Mat::<f64>::zeros(rows, nt);
-    for k in 0..n_coeffs {
-        let h = (k + 1) / 2;
-        let (off, n) = layout.coeff_range(k);
-        match system.contact_map(h) {
-            ContactMap::Leading => {
-                for i in 0..n_w {
-                    wall[(k * n_w + i, off + i)] = 1.0;
-                }
+    // Dense map: coefficient k's unknowns see the contacts through W_k (n_w x n_k), so
+    // J_kl += W_k^T K̂_kl W_l, with K̂_kl the block-diagonal (per contact, d x d) coupling of
+    // coefficients k and l. T = K̂_kl W_l is formed column by column (contiguous), then one
+    // product W_k^T T per pair: 2 n_w N_tot^2 flops in all, where the whole (2H+1) n_w-row
+    // map would multiply the zeros of the other coefficients too.
+    // each coefficient's map with contiguous columns (a leading map written out as [I 0])
+    let maps: Vec<Option<Mat<f64>>> = (0..n_coeffs)
+        .map(|k| {
+            let (_, n) = layout.coeff_range(k);
+            match system.contact_map((k + 1) / 2) {
+                ContactMap::Leading => Some(Mat::from_fn(n_w, n, |i, j| if i == j { 1.0 } else { 0.0 })),
+                ContactMap::Dense(w) if w.row_stride() != 1 => Some(w.to_owned()),
+                ContactMap::Dense(_) => None,
             }
-            ContactMap::Dense(w) => {
-                for j in 0..n {
-                    for i in 0..n_w {
-                        wall[(k * n_w + i, off + j)] = w[(i, j)];
+        })
+        .collect();
+    let map = |k: usize| -> MatRef<'_, f64> {
+        match (&maps[k], system.contact_map((k + 1) / 2)) {
+            (Some(m), _) => m.as_ref(),
+            (None, ContactMap::Dense(w)) => w,
+            (None, ContactMap::Leading) => unreachable!("a leading map is written out above"),
+        }
+    };
+    let mut t = Mat::<f64>::zeros(n_w, 0);
+    for l in 0..n_coeffs {
+        let (off_l, n_l) = layout.coeff_range(l);
+        let w_l = map(l);
+        for k in 0..n_coeffs {
+            let (off_k, n_k) = layout.coeff_range(k);
+            t.resize_with(n_w, n_l, |_, _| 0.0);
+            for j in 0..n_l {
+                let wcol = w_l.col(j).try_as_col_major().expect("contiguous columns (above)").as_slice();
+                let tcol = t.col_as_slice_mut(j);
+                for (c, law) in laws.iter().enumerate() {
+                    let d = law.dim();
+                    let n = d * n_coeffs;
+                    let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + n * n];
+                    let o = offsets[c];
+                    for ir in 0..d {
+                        let mut s = 0.0;
+                        for ic in 0..d {
+                            s += block[(k * d + ir) + (l * d + ic) * n] * wcol[o + ic];
+                        }
+                        tcol[o + ir] = s;
                     }
                 }
             }
+            faer::linalg::matmul::matmul(jac.as_mut().submatrix_mut(off_k, off_l, n_k, n_l), Accum::Add, map(k).transpose(), t.as_ref(), 1.0, Par::Seq);
         }
     }
-    // G is formed transposed (`nt x rows`), so that each of its rows is a contiguous axpy of
-    // a row of Wall (a column of Wall^T) of length `nt`: every entry is summed in the same
-    // order as `sum_q K̂_rq Wall_q` would be, so the bits are those of the row-by-row product.
-    let wall_t = wall.transpose().to_owned();
-    let mut g_t = Mat::<f64>::zeros(nt, rows);
-    for (c, law) in laws.iter().enumerate() {
-        let d = law.dim();
-        let n = d * n_coeffs;
-        let block = &forces.jac[forces.jac_offsets[c]..forces.jac_offsets[c] + n * n];
-        let o = offsets[c];
-        let grow = |local: usize| (local / d) * n_w + o + local % d;
-        for r in 0..n {
-            let gr = g_t.col_as_slice_mut(grow(r));
-            for q in 0..n {
-                let kv = block[r + q * n];
-                if kv != 0.0 {
-                    for (g, w) in gr.iter_mut().zip(wall_t.col_as_slice(grow(q))) {
-                        *g += kv * w;
-                    }
-                }
-            }
-        }
-    }
-    let g = g_t.transpose().to_owned();
-    faer::linalg::matmul::matmul(jac.as_mut(), Accum::Add, wall.transpose(), g.as_ref(), 1.0, Par::Seq);
 }
 
 /// Residual `r = D z - f + W^T F(W z)` and, when asked, the Jacobian `J = D + W^T K̂ W`
