@@ -484,10 +484,8 @@ pub fn sweep_from(
         tangent(&top.expect("jacobian requested"), &orient, metric, w0)?
     };
     let mut ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
-    // the turn per unit arclength of the last smooth step (None after a corner or a restart)
-    let mut last_curvature: Option<f64> = None;
-    // the length and turn of the last smooth step, and the length below which turns do not
-    // shorten the steps (`kink_floor`, see `is_kink_turn`)
+    // the length and turn of the last smooth step (None after a corner or a restart), and the
+    // length below which turns do not shorten the steps (`kink_floor`, see `is_kink_turn`)
     let mut last_step: Option<(f64, f64)> = None;
     let mut kink_floor: Option<f64> = None;
     loop {
@@ -588,7 +586,6 @@ pub fn sweep_from(
             // frequency (oriented along the last direction it may lead back into that point)
             result.restarts.push(omega);
             ds = sopts.initial_step.clamp(sopts.min_step, sopts.max_step);
-            last_curvature = None;
             last_step = None;
             kink_floor = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
@@ -599,7 +596,6 @@ pub fn sweep_from(
             // along the tangent of the new piece (the chord across the corner points between
             // the two pieces, a poor predictor)
             ds = ds_planned.clamp(sopts.min_step, sopts.max_step);
-            last_curvature = None;
             last_step = None;
             let mut c = Corrector::new(system, plan, sopts, &mut ws, metric, Constraint::Sphere { centre: &y }, 1.0);
             let (_, top) = c.linearise(&corrected.y, true)?;
@@ -611,8 +607,7 @@ pub fn sweep_from(
             // branch the two agree; a kink (a contact changing state within the step) turns one
             // step alone, and shortening the next for it would only add points.
             let curvature = angle / ds;
-            let smooth = last_curvature.map_or(curvature, |k| k.min(curvature));
-            last_curvature = Some(curvature);
+            let smooth = last_step.map_or(curvature, |(ds_last, angle_last)| (angle_last / ds_last).min(curvature));
             let f_angle = if smooth > 0.0 { (0.5 * sopts.max_angle / (smooth * ds)).clamp(0.5, 2.0) } else { 2.0 };
             if last_step.is_some_and(|last| is_kink_turn(last, (ds, angle), sopts)) {
                 kink_floor = Some(kink_floor.map_or(ds, |f| f.max(ds)));
