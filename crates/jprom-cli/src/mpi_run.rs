@@ -140,7 +140,7 @@ pub fn run_study_mpi(mpi: &Mpi, study: &Study, out_dir: &Path, progress: Progres
         return Ok(None);
     }
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
-    let built = build_shared(study, progress).and_then(|s| {
+    let built = build_shared(&crate::run::writing_to(study, out_dir), progress).and_then(|s| {
         UnitRunner::new(study, &s, progress)?;
         Ok(s)
     });

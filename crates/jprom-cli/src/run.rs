@@ -6,7 +6,7 @@
 
 use super::plots::{level_series, solver_color, write_energy_map, write_plot, Dash, Legend, Marker, PlotSpec, Series, Style};
 use plotters::style::RGBColor;
-use super::study::{CaseSpec, DampingSpec, FeSource, ModelSpec, Study};
+use super::study::{CaseSpec, DampingSpec, FeSource, ModelSpec, Study, BLADE_MODEL_CACHE};
 use jprom::contact::ContactLaw;
 use jprom::fe::{BladeParams, BuiltinBlade, FeModel, Reduction};
 use jprom::io::dof_map::DofMap;
@@ -315,33 +315,27 @@ fn build_case_models_placed(study: &Study, cases: &[CaseSpec], progress: Progres
     let centre = TWO_PI * 0.5 * (study.band.hz_start + study.band.hz_end);
     let named = |case: &CaseSpec, what: &str| if case.name.is_empty() { what.to_string() } else { format!("case {}: {what}", case.name) };
     match &study.model {
-        ModelSpec::Blade { refinement, cb_modes, damping, contact } => {
+        ModelSpec::Blade { refinement, cb_modes, cache, damping, contact } => {
             let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
-            let step = progress.step(format!("building the built-in blade (refinement {refinement})"));
-            let fe = BuiltinBlade::build(&params)?;
-            step.done_with(&format!(", {} DoFs", fe.n_dof()));
-            let positions: Vec<[f64; 3]> = fe.contacts.iter().map(|c| fe.coords[c.node]).collect();
-            let step = progress.step(format!("Craig-Bampton ({cb_modes} fixed-interface modes)"));
-            let mut cb = fe.reduce(*cb_modes)?;
-            step.done();
-            let base_static = cb.static_force.clone();
+            let cache_file = cache.then(|| study.output.dir.join(BLADE_MODEL_CACHE));
+            let (undamped, positions) = blade_model(&params, *cb_modes, cache_file.as_deref(), progress)?;
+            let base_static = undamped.excitation.static_force.clone();
             let mut models = Vec::with_capacity(cases.len());
             for case in cases {
                 let c = case.contact(contact);
                 let case_params = BladeParams { mu: c.mu, kt1: c.kt1, kt2: c.kt2, kn: c.kn, ..params.clone() };
                 let law = case_params.contact_law();
-                for k in cb.contacts.iter_mut() {
+                let mut model = undamped.clone();
+                for k in model.contacts.iter_mut() {
                     k.law = law.clone();
                 }
-                cb.static_force = if (c.kt1, c.kt2, c.kn) == (contact.kt1, contact.kt2, contact.kn) {
-                    base_static.clone()
-                } else {
+                if (c.kt1, c.kt2, c.kn) != (contact.kt1, contact.kt2, contact.kn) {
                     let step = progress.step(named(case, "the blade's pre-twist for its contact stiffnesses"));
                     let fe_case = BuiltinBlade::build(&case_params)?;
                     step.done();
-                    boundary_load(&fe_case.static_force, &fe_case.boundary_dofs(), base_static.len()).map_err(|e| with_key(&format!("cases ({})", case.name), e))?
-                };
-                let mut model = cb.to_model(Damping::default())?;
+                    model.excitation.static_force = boundary_load(&fe_case.static_force, &fe_case.boundary_dofs(), base_static.len()).map_err(|e| with_key(&format!("cases ({})", case.name), e))?;
+                }
+                model.validate()?;
                 if let Some(scale) = case.static_scale {
                     model.excitation.static_force.iter_mut().for_each(|f| *f *= scale);
                 }
@@ -374,6 +368,70 @@ fn build_case_models_placed(study: &Study, cases: &[CaseSpec], progress: Progres
             Ok((models, positions))
         }
     }
+}
+
+/// The built-in blade's cached Craig-Bampton model (`model.cache`, [`BLADE_MODEL_CACHE`]): the
+/// reduced model, undamped, with the study's contact law and pre-twist, the contact nodes'
+/// coordinates, and the key it was built for.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BladeModelCache {
+    /// What the model depends on: the blade's parameters, the Craig-Bampton modes and the
+    /// jprom version that built it ([`blade_cache_key`]). A file with another key is rebuilt.
+    key: String,
+    positions: Vec<[f64; 3]>,
+    model: Model,
+}
+
+const BLADE_CACHE_KIND: &str = "blade_model_cache";
+
+/// Everything the built-in blade's reduced model depends on, in words.
+fn blade_cache_key(params: &BladeParams, cb_modes: usize) -> String {
+    format!("jprom {}; cb_modes {cb_modes}; blade {params:?}", env!("CARGO_PKG_VERSION"))
+}
+
+/// The built-in blade's Craig-Bampton model, undamped, with `params`' contact law and
+/// pre-twist, and its contact nodes' coordinates: read from `cache` when that file holds the
+/// model of the same key, else built (and then written to `cache`). A cache file that cannot be
+/// read or holds another key is rebuilt and replaced, and the progress lines say so; one that
+/// cannot be written is an error (the study says where), never a silent miss.
+fn blade_model(params: &BladeParams, cb_modes: usize, cache: Option<&Path>, progress: Progress) -> Result<(Model, Vec<[f64; 3]>)> {
+    let key = blade_cache_key(params, cb_modes);
+    if let Some(path) = cache.filter(|p| p.exists()) {
+        let step = progress.step(format!("Craig-Bampton model from {}", path.display()));
+        match jprom::io::load_json::<BladeModelCache>(BLADE_CACHE_KIND, path) {
+            Ok(c) if c.key == key && c.model.validate().is_ok() && c.positions.len() == c.model.contacts.len() => {
+                step.done_with(&format!(", {} DoFs", c.model.n_dof()));
+                return Ok((c.model, c.positions));
+            }
+            Ok(_) => step.done_with(": built for other parameters or another jprom, rebuilt"),
+            Err(e) => step.done_with(&format!(": not usable ({e}), rebuilt")),
+        }
+    }
+    let step = progress.step(format!("building the built-in blade (refinement {})", params.refinement));
+    let fe = BuiltinBlade::build(params)?;
+    step.done_with(&format!(", {} DoFs", fe.n_dof()));
+    let positions: Vec<[f64; 3]> = fe.contacts.iter().map(|c| fe.coords[c.node]).collect();
+    let step = progress.step(format!("Craig-Bampton ({cb_modes} fixed-interface modes)"));
+    let model = fe.reduce(cb_modes)?.to_model(Damping::default())?;
+    step.done();
+    if let Some(path) = cache {
+        let step = progress.step(format!("keeping the Craig-Bampton model in {}", path.display()));
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| JpError::Io { path: dir.display().to_string(), reason: format!("model.cache: {e}") })?;
+        }
+        let doc = BladeModelCache { key, positions, model };
+        // written beside and renamed, so that a reader never sees half a file (and two
+        // builders, threads or processes, never write into one)
+        static WRITES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let tmp = path.with_extension(format!("json.{}-{n}.tmp", std::process::id()));
+        jprom::io::save_json(BLADE_CACHE_KIND, &doc, &tmp)?;
+        std::fs::rename(&tmp, path).map_err(|e| JpError::Io { path: path.display().to_string(), reason: format!("model.cache: {e}") })?;
+        step.done();
+        return Ok((doc.model, doc.positions));
+    }
+    Ok((model, positions))
 }
 
 /// A load `f` on the FE DoFs that acts on the `boundary` DoFs only, in reduced coordinates of
@@ -1638,13 +1696,21 @@ pub fn run_study_with(study: &Study, out_dir: &Path, progress: Progress) -> Resu
 /// the table.
 pub fn run_study_jobs(study: &Study, out_dir: &Path, progress: Progress, jobs: usize) -> Result<RunSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| JpError::Io { path: out_dir.display().to_string(), reason: e.to_string() })?;
-    let shared = build_shared(study, progress)?;
+    let shared = build_shared(&writing_to(study, out_dir), progress)?;
     let all_units = study_units(study);
     // concurrent units print plain lines (bars of several threads would overwrite each other)
     let unit_progress = if jobs > 1 && progress == Progress::Bars { Progress::Lines } else { progress };
     let runner = UnitRunner::new(study, &shared, unit_progress)?;
     let outputs = run_units_threads(&runner, &all_units, jobs);
     merge_units(study, out_dir, &shared, &all_units, outputs)
+}
+
+/// `study` with its results (and its `model.cache`) in `out_dir`, where the run writes them
+/// (`--out` or `output.dir`).
+pub fn writing_to(study: &Study, out_dir: &Path) -> Study {
+    let mut s = study.clone();
+    s.output.dir = out_dir.to_path_buf();
+    s
 }
 
 /// The summary as a fixed-width text table.

@@ -6,6 +6,7 @@
 //! kind = "blade"            # built-in shrouded blade, "matrix_market" or "calculix" (see below)
 //! refinement = 1            # blade only: 2 (2r + 1)^2 contact nodes: 1 -> 18, 5 -> 242, 15 -> 1,922 (at most 15)
 //! cb_modes = 50             # Craig-Bampton fixed-interface modes
+//! cache = false             # blade only: keep the Craig-Bampton model in output.dir and reuse it
 //! damping_ratio = 0.002     # modal damping ratio at the band centre (stiffness-proportional)
 //! # or, instead, any of the damping forms (they add up; forms not given are 0):
 //! # [model.damping]
@@ -244,6 +245,9 @@ pub enum ModelSpec {
     Blade {
         refinement: usize,
         cb_modes: usize,
+        /// Keep the Craig-Bampton model in the output folder ([`BLADE_MODEL_CACHE`]) and reuse
+        /// it when a later run into that folder builds the same blade (`model.cache`).
+        cache: bool,
         damping: DampingSpec,
         contact: ContactSpec,
     },
@@ -317,6 +321,9 @@ pub struct RawModel {
     pub refinement: Option<usize>,
     #[serde(default = "fifty")]
     pub cb_modes: usize,
+    /// Blade only: keep the reduced model in the output folder and reuse it (`model.cache`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cache: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cb_cutoff_hz: Option<f64>,
     /// Short form of `[model.damping] ratio_at_centre`.
@@ -371,9 +378,13 @@ impl TryFrom<RawModel> for ModelSpec {
                 Ok(ModelSpec::Blade {
                     refinement: r.refinement.unwrap_or(1),
                     cb_modes: r.cb_modes,
+                    cache: r.cache,
                     damping: damping.clone(),
                     contact: r.contact.unwrap_or_default(),
                 })
+            }
+            ModelKind::MatrixMarket | ModelKind::Calculix if r.cache => {
+                not_for("cache", if r.kind == ModelKind::Calculix { "calculix" } else { "matrix_market" })
             }
             ModelKind::MatrixMarket => {
                 if r.refinement.is_some() {
@@ -408,10 +419,11 @@ impl TryFrom<RawModel> for ModelSpec {
 impl From<ModelSpec> for RawModel {
     fn from(m: ModelSpec) -> RawModel {
         match m {
-            ModelSpec::Blade { refinement, cb_modes, damping, contact } => RawModel {
+            ModelSpec::Blade { refinement, cb_modes, cache, damping, contact } => RawModel {
                 kind: ModelKind::Blade,
                 refinement: Some(refinement),
                 cb_modes,
+                cache,
                 cb_cutoff_hz: None,
                 damping_ratio: damping.short_form(),
                 damping: if damping.short_form().is_some() { None } else { Some(damping) },
@@ -433,6 +445,7 @@ impl From<ModelSpec> for RawModel {
                     kind,
                     refinement: None,
                     cb_modes,
+                    cache: false,
                     cb_cutoff_hz,
                     damping_ratio: damping.short_form(),
                     damping: if damping.short_form().is_some() { None } else { Some(damping) },
@@ -871,6 +884,10 @@ impl Default for OutputSpec {
     }
 }
 
+/// The file in the output folder that holds the built-in blade's Craig-Bampton model when
+/// `model.cache` is on.
+pub const BLADE_MODEL_CACHE: &str = "blade_model_cache.json";
+
 /// The built-in blade's response output: the flap (`y`) displacement of the tip output node
 /// (the last of its 9 output nodes, 3 outputs each).
 pub const BLADE_TIP_FLAP_OUTPUT: usize = 8 * 3 + 1;
@@ -1054,7 +1071,7 @@ impl Study {
         let bad = |key: &str, reason: String| Err((key.to_string(), reason));
         let over = |key: &str, value: usize, limit: usize, why: &str| Err((key.to_string(), format!("{value} is above jprom's limit of {limit} ({why})")));
         let (cb_modes, damping, contact) = match &self.model {
-            ModelSpec::Blade { refinement, cb_modes, damping, contact } => {
+            ModelSpec::Blade { refinement, cb_modes, damping, contact, .. } => {
                 if *refinement > MAX_BLADE_REFINEMENT {
                     return over("model.refinement", *refinement, MAX_BLADE_REFINEMENT, "15 gives 1,922 contact nodes and 140,658 FE DoFs");
                 }

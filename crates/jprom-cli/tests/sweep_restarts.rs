@@ -19,6 +19,8 @@ use std::ops::ControlFlow;
 #[test]
 fn nlr_sweep_steps_over_every_kink_of_a_partial_slip_resonance() {
     let study = Study::from_file(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/demo_study.toml"))).unwrap();
+    // the demo keeps its reduced model in its output folder: here, not in the source tree
+    let study = jprom_cli::run::writing_to(&study, &std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sweep-restarts"));
     assert!((study.forcing.levels[1] - 0.05).abs() < 1e-12, "the demo's partial-slip level is alpha_ST / 20");
     let shared = build_shared(&study, Progress::for_stderr(true)).unwrap();
     let case = &shared.cases[0];
