@@ -1009,6 +1009,7 @@ fn reduced_level(
         threshold: run.study.basis.error_threshold,
         max_corrections: run.study.basis.max_corrections,
         regeneration_samples: run.study.basis.regeneration_samples,
+        screen: run.study.basis.screen,
         response_output: run.response,
         ..AdaptiveOptions::default()
     };

@@ -38,6 +38,7 @@
 //! error_threshold = 0.05
 //! max_corrections = 5
 //! regeneration_samples = 10
+//! screen = true            # judge each candidate basis where the last was worst before sweeping it
 //!
 //! [solvers]
 //! full_order = true
@@ -808,6 +809,9 @@ pub struct BasisSpec {
     pub max_corrections: usize,
     /// `p̂` samples of a correction's regeneration (`jprom::rom::AdaptiveOptions::regeneration_samples`).
     pub regeneration_samples: usize,
+    /// Judge each candidate basis of a correction at the point where the current basis was
+    /// judged worst before sweeping it (`jprom::rom::AdaptiveOptions::screen`).
+    pub screen: bool,
     /// JP eigenpairs kept beyond the band, nearest first (`ModeOptions::extra_outside`): at
     /// gross slip the slipping mode leaves the band, and the in-band ones alone may miss it.
     pub extra_modes: usize,
@@ -824,7 +828,7 @@ pub struct BasisSpec {
 
 impl Default for BasisSpec {
     fn default() -> Self {
-        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, regeneration_samples: jprom::rom::REGENERATION_SAMPLES, extra_modes: 2, slipping: SlippingSpec::Never, gamma_study: Vec::new() }
+        BasisSpec { gamma: 1e3, samples: 100, error_threshold: 0.05, max_corrections: 5, regeneration_samples: jprom::rom::REGENERATION_SAMPLES, screen: jprom::rom::AdaptiveOptions::default().screen, extra_modes: 2, slipping: SlippingSpec::Never, gamma_study: Vec::new() }
     }
 }
 

@@ -269,9 +269,11 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     // correction are far above round-off and the sequence is the same on any number of threads
     // (with the default gamma the basis is exact, the judged errors are 1e-15 and a threshold
     // below them let round-off pick the kinds). Step 1, a regeneration: its modes alone are
-    // worse (0.9 against 0.058), their union ([4, 8]) is swept and gives 0.058 again; it did not
-    // halve the error, so step 2 enlarges gamma to 30, which completes the basis ([6, 10], error
-    // ~1e-14, within the threshold).
+    // worse than the first basis and their union ([4, 8]) is above the threshold too where the
+    // first basis was judged worst, so neither is swept (screening, the default, which also
+    // judged the first basis at the band's start, above the threshold: no pass 0); step 2
+    // enlarges gamma to 30, which completes the basis ([6, 10], error ~1e-14 there), so it is
+    // swept, within the threshold.
     let mut pred = PredictionOptions::new(band);
     pred.n_samples = 5;
     pred.gamma = 3.0;
@@ -295,12 +297,14 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     let c = &expect.corrections;
     assert!(c[0].worst_error_before > 1e-2 && c[0].worst_error_after > c[0].worst_error_before, "the modes alone lose: {:?}", c[0]);
     assert!(c[2].worst_error_after < 1e-10, "the larger gamma completes the basis: {:?}", c[2]);
-    assert_eq!(per_pass.keys().copied().collect::<Vec<_>>(), [0, 1, 2, 3], "every pass swept");
+    assert_eq!(c.iter().map(|c| c.swept).collect::<Vec<_>>(), [false, false, true], "{c:?}");
+    assert_eq!(per_pass.keys().copied().collect::<Vec<_>>(), [3], "only the completed basis swept");
     assert_eq!(expect.end, CorrectionEnd::WithinThreshold);
     // With the default gamma the basis spans the space the regenerated modes live in, so their
     // union with it is not swept (JpBasis::spans_the_same) and is reported with the error
-    // unchanged; the modes alone are always swept. One step, a threshold below round-off.
-    let complete = AdaptiveOptions { threshold: 1e-16, max_corrections: 1, ..aopts.clone() };
+    // unchanged; without screening the modes alone are always swept. One step, a threshold
+    // below round-off.
+    let complete = AdaptiveOptions { threshold: 1e-16, max_corrections: 1, screen: false, ..aopts.clone() };
     let mut swept = std::collections::BTreeSet::new();
     let full = adaptive_sweep_with_progress(&model, 1, &PredictionOptions { n_samples: 30, ..PredictionOptions::new(band) }, &SweepOptions::band(band.0, band.1), &hopts, &complete, &mut |pass, _| {
         swept.insert(pass);
