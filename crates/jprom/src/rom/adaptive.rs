@@ -355,7 +355,11 @@ fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts
 /// linear guess, with the solver's fallbacks) and its linearised error checked there; above
 /// the threshold it is not swept (docs/formulation.md §10.5: a basis that fails where the
 /// current one failed worst fails its pass). Otherwise (or where that point does not solve) its
-/// pass over the band judges it. `None`: its pass did not converge at the first frequency.
+/// pass over the band judges it.
+///
+/// # Errors
+/// Its pass' errors: [`JpError::NoConvergence`] when it does not converge at the first
+/// frequency.
 #[allow(clippy::too_many_arguments)]
 fn judge_candidate(
     mut j: Judged,
@@ -366,20 +370,17 @@ fn judge_candidate(
     hopts: &HbmOptions,
     pass_no: (usize, usize),
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
-) -> Result<Option<Judged>> {
+) -> Result<Judged> {
     let mut screened = None;
     if let Some((z, e)) = screen_at.and_then(|(condensed, omega)| screen(j.rom.as_ref(), condensed, omega, hopts)) {
         if e > threshold {
             (j.omega, j.z, j.error) = (screen_at.map_or(f64::NAN, |s| s.1), z, e);
-            return Ok(Some(j));
+            return Ok(j);
         }
         screened = Some(e);
     }
-    match run_pass(j.rom.as_ref(), check_with, sopts, hopts, pass_no, on_point) {
-        Ok(p) => Ok(Some(Judged { screened, ..Judged::swept(j.basis, j.prediction, j.rom, p) })),
-        Err(JpError::NoConvergence { .. }) => Ok(None),
-        Err(e) => Err(e),
-    }
+    let p = run_pass(j.rom.as_ref(), check_with, sopts, hopts, pass_no, on_point)?;
+    Ok(Judged { screened, ..Judged::swept(j.basis, j.prediction, j.rom, p) })
 }
 
 /// The modes of the last prediction of a self-correcting sweep and the options they were
@@ -592,7 +593,12 @@ pub fn adaptive_sweep_from(
         let mut alone: Option<Judged> = None;
         if let CorrectionKind::Regenerated { from_omega } = kind {
             let alone_rom = super::reduced_model(aopts.kind, coords, condensed, &fresh)?;
-            let j = judge(alone_rom, fresh.clone(), r.clone(), corrections.len() + 1, on_point)?;
+            // modes alone that do not converge at the first frequency lose to the union
+            let j = match judge(alone_rom, fresh.clone(), r.clone(), corrections.len() + 1, on_point) {
+                Ok(j) => Some(j),
+                Err(JpError::NoConvergence { .. }) => None,
+                Err(e) => return Err(e),
+            };
             let after = j.as_ref().map_or(f64::INFINITY, |j| j.error);
             corrections.push(Correction { kind: CorrectionKind::Replaced { from_omega }, worst_error_before: before, worst_error_after: after, sizes: fresh.sizes.clone(), swept: j.as_ref().is_some_and(|j| j.pass.is_some()) });
             alone = j.filter(|j| j.error_against(cur.pass.is_none()) < before || j.stopped());
@@ -613,7 +619,7 @@ pub fn adaptive_sweep_from(
             None
         } else {
             let new_rom = super::reduced_model(aopts.kind, coords, condensed, &b)?;
-            judge(new_rom, b, r, corrections.len() + 1, on_point)?
+            Some(judge(new_rom, b, r, corrections.len() + 1, on_point)?)
         };
         let union_sizes = union.as_ref().map_or(cur.basis.sizes.clone(), |j| j.basis.sizes.clone());
         let union_worst = union.as_ref().map_or(before, |j| j.error);
