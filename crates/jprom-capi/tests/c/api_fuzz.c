@@ -68,13 +68,17 @@ static void violation(const char *fn, const char *what) {
     violations++;
 }
 
-/* The last call that returned (for the SIGTERM report). */
+/* The last call that returned and the last that started, with the options of the last
+ * costly call (for the SIGTERM report of a stall). */
 static const char *volatile last_returned = "(none)";
+static const char *volatile last_started = "(none)";
+static char last_options[512] = "";
 
 static void on_term(int sig) {
     (void)sig;
-    char line[256];
-    int len = snprintf(line, sizeof line, "api_fuzz: stopped after %ld calls; the last that returned: %s\n", calls, last_returned);
+    char line[1024];
+    int len = snprintf(line, sizeof line, "api_fuzz: stopped after %ld calls; the last that returned: %s; the last that started: %s; the last costly call's options: %s\n",
+                       calls, last_returned, last_started, last_options);
     if (len > 0) {
         ssize_t w = write(STDOUT_FILENO, line, (size_t)len < sizeof line ? (size_t)len : sizeof line - 1);
         (void)w;
@@ -82,8 +86,9 @@ static void on_term(int sig) {
     _exit(124);
 }
 
-/* Checks one call's status and message; returns the status. */
-static jprom_status seen(const char *fn, jprom_status s) {
+/* Checks one call's status and message; returns the status. `seen(fn, call)` names the call
+ * as started before its arguments are evaluated. */
+static jprom_status seen_(const char *fn, jprom_status s) {
     last_returned = fn;
     calls++;
     int code = (int)s;
@@ -98,6 +103,8 @@ static jprom_status seen(const char *fn, jprom_status s) {
     if (s == JPROM_OK && msg[0] != '\0') violation(fn, "a success with a stale message");
     return s;
 }
+
+#define seen(fn, call) (last_started = (fn), seen_((fn), (call)))
 
 /* ------------------------------------------------------------------ handle pools */
 
@@ -239,6 +246,14 @@ static jprom_jp_options jp_opts(void) {
         if (k == 9) o.slipping = chance(50) ? (int)below(3) : (int)rnd();
     }
     return o;
+}
+
+/* Records a costly call's options for the SIGTERM report. */
+static void note_options(const jprom_hbm_options *o, const jprom_sweep_options *so, const jprom_jp_options *jo) {
+    snprintf(last_options, sizeof last_options,
+             "H %zu nt %zu max_iterations %zu condensed %d; band %g..%g max_points %zu; gamma %g n_samples %zu extra_outside %zu threshold %g max_corrections %zu gamma_growth %g max_gamma %g slipping %d",
+             o->harmonics, o->nt, o->max_iterations, o->condensed, so ? so->omega_start : 0.0, so ? so->omega_end : 0.0, so ? so->max_points : 0,
+             jo->gamma, jo->n_samples, jo->extra_outside, jo->threshold, jo->max_corrections, jo->gamma_growth, jo->max_gamma, jo->slipping);
 }
 
 /* ------------------------------------------------------------------ callbacks */
@@ -417,6 +432,7 @@ static void one_call(void) {
         jprom_hbm_options o = hbm_opts(0);
         jprom_jp_options jo = jp_opts();
         b = NULL;
+        note_options(&o, NULL, &jo);
         st = seen("jprom_basis_from_solution", jprom_basis_from_solution(PICK_MODEL(), PICK_SOLUTION(), &o, &jo, romega(), romega(), &b));
         if (st == JPROM_OK) ADOPT(bases, jprom_basis_free, b);
     } else if (k < 321) { /* ROM sweep */
@@ -431,6 +447,7 @@ static void one_call(void) {
         jprom_jp_options jo = jp_opts();
         w = NULL;
         b = NULL;
+        note_options(&o, &so, &jo);
         st = seen("jprom_rom_sweep_adaptive", jprom_rom_sweep_adaptive(PICK_MODEL(), chance(90) ? (int)below(2) : (int)rnd(), &o, &so, &jo, rcallback(), NULL,
                                                                          chance(98) ? &w : NULL, chance(50) ? &b : NULL));
         if (st == JPROM_OK || (st == JPROM_CANCELLED && w)) {
