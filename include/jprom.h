@@ -286,7 +286,9 @@ typedef struct {
   // exceeds this (default 0.05; must be > 0).
   double threshold;
   // Most correction steps (default 5; 0 = predict and sweep once). A regeneration is one
-  // step, reported as one or two corrections (the modes alone, then their union).
+  // step, reported as one or two corrections (the modes alone, then their union). A step
+  // whose candidates were all screened out without a pass counts only towards a limit of
+  // twice `max_corrections` steps in all.
   size_t max_corrections;
   // Factor applied to `gamma` when a regeneration does not halve the worst `e*_1`
   // (default 10, > 1), up to `max_gamma` (default 1e6, >= `gamma`).

@@ -414,14 +414,22 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));
 
-        // one step allowed: the corrections run out above the threshold (MAX_CORRECTIONS, the
-        // judged error the basis' own, 0.058), as the Rust API says
+        // one step allowed: the first step's candidates are both screened out (above the
+        // threshold where the first basis failed), which does not spend the budget (it counts
+        // towards twice max_corrections only); the gamma step that follows is swept and within
+        // the threshold
         let one = AdaptiveOptions { max_corrections: 1, ..aopts.clone() };
-        let short = adaptive_sweep(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &one).unwrap();
-        assert_eq!((short.end, short.corrections.len()), (CorrectionEnd::MaxCorrections, 2), "{:?}", short.corrections);
+        let one_step = adaptive_sweep(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &one).unwrap();
+        assert_eq!((one_step.end, one_step.corrections.len()), (CorrectionEnd::WithinThreshold, 3), "{:?}", one_step.corrections);
+        assert_eq!(one_step.corrections.iter().map(|c| c.swept).collect::<Vec<_>>(), vec![false, false, true]);
+        // no step allowed: the corrections run out above the threshold at once
+        // (MAX_CORRECTIONS, the judged error the basis' own, 0.062), as the Rust API says
+        let none = AdaptiveOptions { max_corrections: 0, ..aopts.clone() };
+        let short = adaptive_sweep(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &hopts, &none).unwrap();
+        assert_eq!((short.end, short.corrections.len()), (CorrectionEnd::MaxCorrections, 0), "{:?}", short.corrections);
         assert!(short.worst_error > 1e-2, "{}", short.worst_error);
         let mut jo1 = jo;
-        jo1.max_corrections = 1;
+        jo1.max_corrections = 0;
         let mut s1 = std::ptr::null_mut();
         ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &jo1, None, std::ptr::null_mut(), &mut s1, std::ptr::null_mut()));
         let (mut end1, mut judged1) = (jprom_correction_end::JPROM_CORRECTIONS_WITHIN_THRESHOLD, -1.0);

@@ -25,10 +25,11 @@
 //!
 //! **Screening** ([`AdaptiveOptions::screen`], default on; docs/formulation.md §10.5). A
 //! candidate basis (the regenerated modes alone, a union, a `gamma` step) is first solved at
-//! the one frequency where the current basis was judged worst and its linearised error checked
-//! there (one reduced solve, one full-order factorisation); above the threshold there it
-//! cannot pass, so it is not swept ([`Correction::swept`] false, its error there reported) but
-//! competes at that point: the better one is kept and the next correction starts from its
+//! the frequency where the current basis was judged worst, then at the other points where the
+//! bases before it were judged poor (at most four points, a resonance's checks counted once),
+//! and its linearised error checked there (one reduced solve, one full-order factorisation
+//! each); above the threshold at one of them it cannot pass, so it is not swept
+//! ([`Correction::swept`] false, its error there reported) but competes at that point: the better one is kept and the next correction starts from its
 //! solution there. Within the threshold there it is swept; a `gamma` step swept after steps
 //! judged at one point is followed by a regeneration from its own worst point. The first basis is screened at the
 //! band's start. A basis kept without a pass is swept before it is the result. On the demo's
@@ -74,7 +75,11 @@ pub struct AdaptiveOptions {
     pub threshold: f64,
     /// Most correction steps (default 5; on the blade at alpha_ST / 3000 the fourth brought the
     /// worst e*_1 from 0.077 to 0.026). A regeneration is one step: the regenerated modes
-    /// alone and, unless they are within the threshold, their union with the basis.
+    /// alone and, unless they are within the threshold, their union with the basis. With
+    /// [`AdaptiveOptions::screen`], a step whose candidates were all judged at screening points
+    /// (none swept) counts only up to `2 max_corrections` steps in all (on the test kit's
+    /// 50-contact blade at gross slip the first three steps were screened at the band's start,
+    /// and counted each the sweep ended above the threshold; tests/screening_points.rs).
     pub max_corrections: usize,
     /// Factor applied to `gamma` when regeneration alone is not enough (default 10), up to
     /// `max_gamma` (default 1e6).
@@ -315,7 +320,7 @@ struct Judged {
     omega: f64,
     z: Vec<f64>,
     error: f64,
-    /// A swept candidate's error at the screening point, which it passed.
+    /// Its error at the first screening point (the current basis' judged point).
     screened: Option<f64>,
 }
 
@@ -328,8 +333,8 @@ impl Judged {
     fn unswept(basis: JpBasis, prediction: PredictionReport, rom: Box<dyn ReducedModel>) -> Self {
         Judged { basis, prediction, rom, pass: None, omega: f64::NAN, z: Vec::new(), error: f64::INFINITY, screened: None }
     }
-    /// The error by which it competes with a basis judged at one point only (`unswept`): a
-    /// swept candidate's there, else its judged error.
+    /// The error by which it competes with a basis judged at one point only (`unswept`): its
+    /// error at that point when it was screened there, else its judged error.
     fn error_against(&self, unswept: bool) -> f64 {
         match (unswept, self.screened) {
             (true, Some(e)) => e,
@@ -351,11 +356,13 @@ fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts
 }
 
 /// Judges a candidate basis (`j`, unswept): with `screen_at` (the condensed system and the
-/// current basis' judged frequency), it is first solved at that frequency alone (from the
-/// linear guess, with the solver's fallbacks) and its linearised error checked there; above
-/// the threshold it is not swept (docs/formulation.md §10.5: a basis that fails where the
-/// current one failed worst fails its pass). Otherwise (or where that point does not solve) its
-/// pass over the band judges it.
+/// frequencies where the bases before it were judged poor, the current basis' judged point
+/// first), it is first solved at each of those frequencies alone (from the linear guess, with
+/// the solver's fallbacks) and its linearised error checked there; above the threshold at one
+/// of them it is not swept (docs/formulation.md §10.5: a basis that fails where the bases
+/// before it failed fails its pass) and is judged there. Otherwise (points that do not solve
+/// are passed over) its pass over the band judges it. Its error at the first frequency is kept
+/// as `screened` either way.
 ///
 /// # Errors
 /// Its pass' errors: [`JpError::NoConvergence`] when it does not converge at the first
@@ -363,7 +370,7 @@ fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts
 #[allow(clippy::too_many_arguments)]
 fn judge_candidate(
     mut j: Judged,
-    screen_at: Option<(&CondensedSystem, f64)>,
+    screen_at: Option<(&CondensedSystem, &[f64])>,
     threshold: f64,
     check_with: Option<&CondensedSystem>,
     sopts: &SweepOptions,
@@ -372,15 +379,58 @@ fn judge_candidate(
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<Judged> {
     let mut screened = None;
-    if let Some((z, e)) = screen_at.and_then(|(condensed, omega)| screen(j.rom.as_ref(), condensed, omega, hopts)) {
-        if e > threshold {
-            (j.omega, j.z, j.error) = (screen_at.map_or(f64::NAN, |s| s.1), z, e);
-            return Ok(j);
+    if let Some((condensed, omegas)) = screen_at {
+        for (i, &omega) in omegas.iter().enumerate() {
+            let Some((z, e)) = screen(j.rom.as_ref(), condensed, omega, hopts) else { continue };
+            if i == 0 {
+                screened = Some(e);
+            }
+            if e > threshold {
+                (j.omega, j.z, j.error, j.screened) = (omega, z, e, screened);
+                return Ok(j);
+            }
         }
-        screened = Some(e);
     }
     let p = run_pass(j.rom.as_ref(), check_with, sopts, hopts, pass_no, on_point)?;
     Ok(Judged { screened, ..Judged::swept(j.basis, j.prediction, j.rom, p) })
+}
+
+/// At most this many frequencies screen a candidate (the current basis' judged point first).
+const SCREENED_POINTS: usize = 4;
+
+/// Two frequencies closer than this (relative) are one point of the screening: a resonance's
+/// checks (on the 50-contact blade at gross slip, four within 1 Hz of 1,672 Hz) are one.
+const SAME_POINT: f64 = 1e-3;
+
+fn same_point(a: f64, b: f64) -> bool {
+    (a - b).abs() <= SAME_POINT * a.abs().max(b.abs())
+}
+
+/// Adds where `j` was judged above `threshold` (its judged point, and its pass' checks above
+/// it) to `poor` ([`add_poor`]). Candidates are screened there: on the 50-contact blade at
+/// gross slip NLR's regenerated modes passed at the resonance, where the basis before them had
+/// failed, and failed at the band's start, where the first basis had (tests/screening_points.rs).
+fn note_poor(poor: &mut Vec<(f64, f64)>, j: &Judged, threshold: f64) {
+    let checks = j.pass.iter().flat_map(|p| &p.checks).map(|c| (c.omega, c.linearised));
+    add_poor(poor, std::iter::once((j.omega, j.error)).chain(checks), threshold);
+}
+
+/// Adds the `(frequency, error)` pairs above `threshold` to `poor`: one entry per point
+/// ([`same_point`]) with the largest error seen there (NaN as infinite), worst first, at most
+/// [`SCREENED_POINTS`].
+fn add_poor(poor: &mut Vec<(f64, f64)>, points: impl Iterator<Item = (f64, f64)>, threshold: f64) {
+    for (omega, error) in points {
+        let error = if error.is_nan() { f64::INFINITY } else { error };
+        if !(error > threshold) || !omega.is_finite() {
+            continue;
+        }
+        match poor.iter_mut().find(|p| same_point(p.0, omega)) {
+            Some(p) => p.1 = p.1.max(error),
+            None => poor.push((omega, error)),
+        }
+    }
+    poor.sort_by(|a, b| b.1.total_cmp(&a.1));
+    poor.truncate(SCREENED_POINTS);
 }
 
 /// The modes of the last prediction of a self-correcting sweep and the options they were
@@ -549,8 +599,13 @@ pub fn adaptive_sweep_from(
     Judged::swept(basis, prediction, rom, pass)
     };
     let mut regenerate_next = true;
+    // Where the bases so far were judged poor (screening judges candidates there too).
+    let mut poor: Vec<(f64, f64)> = Vec::new();
+    note_poor(&mut poor, &cur, aopts.threshold);
     // Correction steps made (a regeneration is one step, its union included).
     let mut steps = corrections.len();
+    // Steps whose candidates were all judged at screening points only (no pass).
+    let mut screened_steps = 0usize;
     let end = loop {
         if cur.pass.as_ref().is_some_and(|p| p.sweep.end == SweepEnd::StoppedByCaller) {
             break CorrectionEnd::Stopped;
@@ -558,7 +613,7 @@ pub fn adaptive_sweep_from(
         if cur.error <= aopts.threshold {
             break CorrectionEnd::WithinThreshold;
         }
-        if steps >= aopts.max_corrections {
+        if steps - screened_steps.min(steps) >= aopts.max_corrections || steps >= aopts.max_corrections.saturating_mul(2) {
             break CorrectionEnd::MaxCorrections;
         }
         // A regeneration from the same point at the largest gamma would repeat a dropped one.
@@ -581,8 +636,13 @@ pub fn adaptive_sweep_from(
         };
         let (fresh, r) = predict(coords, &popts, &mut last)?;
         steps += 1;
-        // Where a candidate is judged first when screening: the current basis' judged point.
-        let screen_at = screen_with.map(|c| (c, cur.omega));
+        let mut step_swept = false;
+        // Where a candidate is judged first when screening: the current basis' judged point,
+        // then the other points where the bases so far were poor.
+        let mut screen_points = vec![cur.omega];
+        screen_points.extend(poor.iter().map(|p| p.0).filter(|&w| !same_point(w, cur.omega)));
+        screen_points.truncate(SCREENED_POINTS);
+        let screen_at = screen_with.map(|c| (c, &screen_points[..]));
         let judge = |rom: Box<dyn ReducedModel>, basis: JpBasis, prediction: PredictionReport, pass_no: usize, on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>| {
             judge_candidate(Judged::unswept(basis, prediction, rom), screen_at, aopts.threshold, check_with, sopts, hopts, (pass_no, aopts.response_output), on_point)
         };
@@ -600,7 +660,8 @@ pub fn adaptive_sweep_from(
                 Err(e) => return Err(e),
             };
             let after = j.as_ref().map_or(f64::INFINITY, |j| j.error);
-            corrections.push(Correction { kind: CorrectionKind::Replaced { from_omega }, worst_error_before: before, worst_error_after: after, sizes: fresh.sizes.clone(), swept: j.as_ref().is_some_and(|j| j.pass.is_some()) });
+            step_swept = j.as_ref().is_some_and(|j| j.pass.is_some());
+            corrections.push(Correction { kind: CorrectionKind::Replaced { from_omega }, worst_error_before: before, worst_error_after: after, sizes: fresh.sizes.clone(), swept: step_swept });
             alone = j.filter(|j| j.error_against(cur.pass.is_none()) < before || j.stopped());
             if let Some(j) = alone.take_if(|j| (j.pass.is_some() && j.error <= aopts.threshold) || j.stopped()) {
                 cur = j;
@@ -624,7 +685,11 @@ pub fn adaptive_sweep_from(
         let union_sizes = union.as_ref().map_or(cur.basis.sizes.clone(), |j| j.basis.sizes.clone());
         let union_worst = union.as_ref().map_or(before, |j| j.error);
         let gamma_step = matches!(kind, CorrectionKind::GammaIncreased { .. });
-        corrections.push(Correction { kind, worst_error_before: before, worst_error_after: union_worst, sizes: union_sizes, swept: union.as_ref().is_some_and(|j| j.pass.is_some()) });
+        let union_swept = union.as_ref().is_some_and(|j| j.pass.is_some());
+        corrections.push(Correction { kind, worst_error_before: before, worst_error_after: union_worst, sizes: union_sizes, swept: union_swept });
+        if !(step_swept || union_swept) {
+            screened_steps += 1;
+        }
         // A correction that made the worst e*_1 larger is reported but not kept (the Galerkin
         // error need not fall as the basis grows: on the blade at alpha_ST / 3000 a third
         // regeneration took it from 0.077 to 0.12). A pass stopped by the caller is kept. Of the
@@ -641,6 +706,7 @@ pub fn adaptive_sweep_from(
         // is worst over the band: the next correction regenerates from there (after a
         // regeneration, as always, a gamma step).
         regenerate_next = (gamma_step && was_unswept && cur.pass.is_some()) || regenerates_next(gamma_step, before, cur.error, popts.gamma >= aopts.max_gamma);
+        note_poor(&mut poor, &cur, aopts.threshold);
     };
     // A basis kept after screening alone is swept over the band before it is the result.
     let (end, pass) = match cur.pass.take() {
@@ -663,7 +729,24 @@ pub fn adaptive_sweep_from(
 
 #[cfg(test)]
 mod tests {
-    use super::regenerates_next;
+    use super::{add_poor, regenerates_next, SCREENED_POINTS};
+
+    /// The points a candidate is screened at: above the threshold only, a resonance's checks
+    /// (within 0.1 % of each other) one point with their largest error, worst first, at most
+    /// four; a NaN error counts as the worst.
+    #[test]
+    fn poor_points_are_merged_ranked_and_capped() {
+        let mut poor = Vec::new();
+        add_poor(&mut poor, [(1620.0, 1.06), (1672.2, 0.305), (1671.7, 0.304), (1671.2, 0.31), (1700.0, 0.05), (1800.0, 0.01)].into_iter(), 0.05);
+        assert_eq!(poor.len(), 2, "{poor:?}");
+        assert_eq!(poor[0], (1620.0, 1.06));
+        assert_eq!(poor[1], (1672.2, 0.31));
+        add_poor(&mut poor, [(1620.5, 2.0), (1900.0, f64::NAN), (1750.0, 0.2), (2000.0, 0.1), (2100.0, 0.07)].into_iter(), 0.05);
+        assert_eq!(poor.len(), SCREENED_POINTS);
+        assert_eq!(poor[0].0, 1900.0);
+        assert_eq!(poor[1], (1620.0, 2.0));
+        assert_eq!(poor.iter().map(|p| p.0).collect::<Vec<_>>(), vec![1900.0, 1620.0, 1672.2, 1750.0]);
+    }
 
     /// The rule of docs/formulation.md §10.5 step 3. The former rule (regenerate after any
     /// step that halved the error) fails the second assertion.
