@@ -319,7 +319,7 @@ fn build_case_models_placed(study: &Study, cases: &[CaseSpec], progress: Progres
             let params = BladeParams { refinement: *refinement, mu: contact.mu, kt1: contact.kt1, kt2: contact.kt2, kn: contact.kn, ..Default::default() };
             let cache_file = cache.then(|| study.output.dir.join(BLADE_MODEL_CACHE));
             let (undamped, positions) = blade_model(&params, *cb_modes, cache_file.as_deref(), progress)?;
-            let base_static = undamped.excitation.static_force.clone();
+            let n_static = undamped.excitation.static_force.len();
             let mut models = Vec::with_capacity(cases.len());
             for case in cases {
                 let c = case.contact(contact);
@@ -333,7 +333,7 @@ fn build_case_models_placed(study: &Study, cases: &[CaseSpec], progress: Progres
                     let step = progress.step(named(case, "the blade's pre-twist for its contact stiffnesses"));
                     let fe_case = BuiltinBlade::build(&case_params)?;
                     step.done();
-                    model.excitation.static_force = boundary_load(&fe_case.static_force, &fe_case.boundary_dofs(), base_static.len()).map_err(|e| with_key(&format!("cases ({})", case.name), e))?;
+                    model.excitation.static_force = boundary_load(&fe_case.static_force, &fe_case.boundary_dofs(), n_static).map_err(|e| with_key(&format!("cases ({})", case.name), e))?;
                 }
                 model.validate()?;
                 if let Some(scale) = case.static_scale {
@@ -426,8 +426,13 @@ fn blade_model(params: &BladeParams, cb_modes: usize, cache: Option<&Path>, prog
         static WRITES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
         let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let tmp = path.with_extension(format!("json.{}-{n}.tmp", std::process::id()));
-        jprom::io::save_json(BLADE_CACHE_KIND, &doc, &tmp)?;
-        std::fs::rename(&tmp, path).map_err(|e| JpError::Io { path: path.display().to_string(), reason: format!("model.cache: {e}") })?;
+        let written = jprom::io::save_json(BLADE_CACHE_KIND, &doc, &tmp)
+            .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| JpError::Io { path: path.display().to_string(), reason: format!("model.cache: {e}") }));
+        if written.is_err() {
+            // no half-written file left beside the cache
+            let _ = std::fs::remove_file(&tmp);
+        }
+        written?;
         step.done();
         return Ok((doc.model, doc.positions));
     }

@@ -74,6 +74,19 @@ fn a_cache_that_cannot_be_written_is_an_error_and_fe_models_refuse_the_key() {
     }
     let _ = std::fs::remove_file(&blocker);
 
+    // the cache's name is taken by a folder: the file is written beside it, the rename fails,
+    // and nothing is left beside it
+    let dir = std::env::temp_dir().join(format!("jprom-model-cache-taken-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("blade_model_cache.json").join("inside")).unwrap();
+    match build_model(&study(&dir, 12, true)) {
+        Err(JpError::Io { reason, .. }) => assert!(reason.contains("model.cache"), "{reason}"),
+        other => panic!("expected an I/O error, got {:?}", other.map(|m| m.n_dof())),
+    }
+    let left: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(left, vec!["blade_model_cache.json".to_string()], "a temporary file was left: {left:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+
     let fe = "[model]\nkind = \"calculix\"\ndeck = \"job.inp\"\ncache = true\n[forcing]\nlevels = [0.1]\n";
     match Study::from_toml_str(fe) {
         Err(JpError::Parse { reason, .. }) => assert!(reason.contains("model.cache") && reason.contains("calculix"), "{reason}"),
