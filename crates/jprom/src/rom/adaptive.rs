@@ -29,8 +29,8 @@
 //! bases before it were judged poor (at most four points, a resonance's checks counted once),
 //! and its linearised error checked there (one reduced solve, one full-order factorisation
 //! each); above the threshold at one of them it cannot pass, so it is not swept
-//! ([`Correction::swept`] false, its error there reported) but competes at that point: the better one is kept and the next correction starts from its
-//! solution there. Within the threshold there it is swept; a `gamma` step swept after steps
+//! ([`Correction::swept`] false, its error there reported) but competes at that point: the
+//! better one is kept and the next correction starts from its solution there. Within the threshold there it is swept; a `gamma` step swept after steps
 //! judged at one point is followed by a regeneration from its own worst point. The first basis is screened at the
 //! band's start. A basis kept without a pass is swept before it is the result. On the demo's
 //! blade at 98 contact nodes, gross slip, FR from the stuck-mode basis: three passes instead
@@ -243,7 +243,7 @@ impl AdaptiveSweep {
     /// checks ([`ErrorCheck::static_displacement`]; `None` without checks). Above the
     /// threshold the static term `X0` is poor even where the first harmonic is within it.
     pub fn worst_static_error(&self) -> Option<f64> {
-        self.checks.iter().map(|c| if c.static_displacement.is_nan() { f64::INFINITY } else { c.static_displacement }).reduce(f64::max)
+        self.checks.iter().map(|c| nan_as_worst(c.static_displacement)).reduce(f64::max)
     }
 }
 
@@ -275,7 +275,7 @@ fn run_pass(
     for (i, e) in errors.iter().enumerate() {
         // A NaN e* counts as worst.
         if !(e[1] <= worst) {
-            worst = if e[1].is_nan() { f64::INFINITY } else { e[1] };
+            worst = nan_as_worst(e[1]);
             worst_at = i;
         }
     }
@@ -295,7 +295,7 @@ fn run_pass(
                 let e = &lin.force;
                 checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1], static_displacement: lin.static_displacement });
                 if !(e[1] <= judged) {
-                    judged = if e[1].is_nan() { f64::INFINITY } else { e[1] };
+                    judged = nan_as_worst(e[1]);
                     judged_at = i;
                 }
             }
@@ -352,7 +352,7 @@ impl Judged {
 fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts: &HbmOptions) -> Option<(Vec<f64>, f64)> {
     let p = crate::hbm::solve_point(rom, omega, None, hopts).ok()?;
     let e = linearised_errors(rom, condensed, omega, &p.z).ok()?.force[1];
-    Some((p.z, if e.is_nan() { f64::INFINITY } else { e }))
+    Some((p.z, nan_as_worst(e)))
 }
 
 /// Judges a candidate basis (`j`, unswept): with `screen_at` (the condensed system and the
@@ -395,6 +395,15 @@ fn judge_candidate(
     Ok(Judged { screened, ..Judged::swept(j.basis, j.prediction, j.rom, p) })
 }
 
+/// An error that is NaN (a failed evaluation) counts as the worst.
+fn nan_as_worst(e: f64) -> f64 {
+    if e.is_nan() {
+        f64::INFINITY
+    } else {
+        e
+    }
+}
+
 /// At most this many frequencies screen a candidate (the current basis' judged point first).
 const SCREENED_POINTS: usize = 4;
 
@@ -420,7 +429,7 @@ fn note_poor(poor: &mut Vec<(f64, f64)>, j: &Judged, threshold: f64) {
 /// [`SCREENED_POINTS`].
 fn add_poor(poor: &mut Vec<(f64, f64)>, points: impl Iterator<Item = (f64, f64)>, threshold: f64) {
     for (omega, error) in points {
-        let error = if error.is_nan() { f64::INFINITY } else { error };
+        let error = nan_as_worst(error);
         if !(error > threshold) || !omega.is_finite() {
             continue;
         }
@@ -604,7 +613,8 @@ pub fn adaptive_sweep_from(
     note_poor(&mut poor, &cur, aopts.threshold);
     // Correction steps made (a regeneration is one step, its union included).
     let mut steps = corrections.len();
-    // Steps whose candidates were all judged at screening points only (no pass).
+    // Steps whose candidates were all judged at screening points only (no pass; never more
+    // than `steps`).
     let mut screened_steps = 0usize;
     let end = loop {
         if cur.pass.as_ref().is_some_and(|p| p.sweep.end == SweepEnd::StoppedByCaller) {
@@ -613,7 +623,7 @@ pub fn adaptive_sweep_from(
         if cur.error <= aopts.threshold {
             break CorrectionEnd::WithinThreshold;
         }
-        if steps - screened_steps.min(steps) >= aopts.max_corrections || steps >= aopts.max_corrections.saturating_mul(2) {
+        if steps - screened_steps >= aopts.max_corrections || steps >= aopts.max_corrections.saturating_mul(2) {
             break CorrectionEnd::MaxCorrections;
         }
         // A regeneration from the same point at the largest gamma would repeat a dropped one.
