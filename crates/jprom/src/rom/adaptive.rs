@@ -32,7 +32,9 @@
 //! ([`Correction::swept`] false, its error there reported) but competes at that point: the
 //! better one is kept and the next correction starts from its solution there. Within the threshold there it is swept; a `gamma` step swept after steps
 //! judged at one point is followed by a regeneration from its own worst point. The first basis is screened at the
-//! band's start. A basis kept without a pass is swept before it is the result. On the demo's
+//! band's start. A candidate that passes those points is screened where its own response
+//! peaks ([`crate::rom::tangent_peak`], the tangent response at its first solution); a
+//! `gamma` step judged at such a new point is followed by a regeneration from there. A basis kept without a pass is swept before it is the result. On the demo's
 //! blade at 98 contact nodes, gross slip, FR from the stuck-mode basis: three passes instead
 //! of six, the same final basis [33, 39] and judged error 1.38e-2.
 //!
@@ -55,6 +57,7 @@
 //! `max_corrections`, or when no correction is left to try (a dropped correction at the
 //! largest `gamma` would only be repeated); [`AdaptiveSweep::end`] says which.
 
+use super::tangent_peak::tangent_peak;
 use super::{ReducedModel, RomKind};
 use crate::aft::Discretisation;
 use crate::condensation::CondensedSystem;
@@ -355,6 +358,43 @@ fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts
     Some((p.z, nan_as_worst(e)))
 }
 
+/// What screening found of a candidate: the first point where its linearised error is above
+/// the threshold (the frequency, its reduced solution there and the error), and its error at
+/// the first point that was asked for.
+struct Screening {
+    failed: Option<(f64, Vec<f64>, f64)>,
+    first_error: Option<f64>,
+}
+
+/// Screens a candidate (`rom`) at `omegas` in turn ([`screen`]; points that do not solve are
+/// passed over) and then where its own tangent response peaks in the band, estimated from its
+/// first solution ([`tangent_peak`]), unless that is one of `omegas`: a basis that passes
+/// where the bases before it failed may still fail at its resonance, which its pass would
+/// find only after sweeping the band (at gross slip, the stuck-mode basis' first corrections
+/// pass at the band's start and fail at the slipping resonance).
+fn screen_candidate(rom: &dyn ReducedModel, condensed: &CondensedSystem, omegas: &[f64], threshold: f64, sopts: &SweepOptions, hopts: &HbmOptions) -> Screening {
+    let mut first_error = None;
+    let mut first_solution = None;
+    for (i, &omega) in omegas.iter().enumerate() {
+        let Some((z, e)) = screen(rom, condensed, omega, hopts) else { continue };
+        if i == 0 {
+            first_error = Some(e);
+        }
+        if e > threshold {
+            return Screening { failed: Some((omega, z, e)), first_error };
+        }
+        if first_solution.is_none() {
+            first_solution = Some((omega, z));
+        }
+    }
+    let band = (sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end));
+    let peak = first_solution.and_then(|(omega, z)| tangent_peak(rom, omega, &z, band).ok().flatten());
+    let failed = peak
+        .filter(|&w| !omegas.iter().any(|&p| same_point(p, w)))
+        .and_then(|w| screen(rom, condensed, w, hopts).filter(|(_, e)| *e > threshold).map(|(z, e)| (w, z, e)));
+    Screening { failed, first_error }
+}
+
 /// Judges a candidate basis (`j`, unswept): with `screen_at` (the condensed system and the
 /// frequencies where the bases before it were judged poor, the current basis' judged point
 /// first), it is first solved at each of those frequencies alone (from the linear guess, with
@@ -380,15 +420,11 @@ fn judge_candidate(
 ) -> Result<Judged> {
     let mut screened = None;
     if let Some((condensed, omegas)) = screen_at {
-        for (i, &omega) in omegas.iter().enumerate() {
-            let Some((z, e)) = screen(j.rom.as_ref(), condensed, omega, hopts) else { continue };
-            if i == 0 {
-                screened = Some(e);
-            }
-            if e > threshold {
-                (j.omega, j.z, j.error, j.screened) = (omega, z, e, screened);
-                return Ok(j);
-            }
+        let s = screen_candidate(j.rom.as_ref(), condensed, omegas, threshold, sopts, hopts);
+        screened = s.first_error;
+        if let Some((omega, z, e)) = s.failed {
+            (j.omega, j.z, j.error, j.screened) = (omega, z, e, screened);
+            return Ok(j);
         }
     }
     let p = run_pass(j.rom.as_ref(), check_with, sopts, hopts, pass_no, on_point)?;
@@ -570,12 +606,12 @@ pub fn adaptive_sweep_from(
     let mut rom = super::reduced_model(aopts.kind, coords, condensed, &basis)?;
     let mut corrections = Vec::new();
     let screen_with = if aopts.screen { check_with } else { None };
-    // Screening judges the first basis at the band's start first: above the threshold there
-    // it is corrected from that point without a pass (at gross slip the stuck-mode basis
-    // fails at the first frequency already).
-    let first = screen_with.and_then(|c| screen(rom.as_ref(), c, sopts.omega_start, hopts)).filter(|(_, e)| *e > aopts.threshold);
-    let mut cur = if let Some((z, error)) = first {
-        Judged { omega: sopts.omega_start, z, error, ..Judged::unswept(basis, prediction, rom) }
+    // Screening judges the first basis at the band's start, then where its tangent response
+    // peaks: above the threshold at either it is corrected from that point without a pass (at
+    // gross slip the stuck-mode basis fails at the first frequency already).
+    let first = screen_with.and_then(|c| screen_candidate(rom.as_ref(), c, &[sopts.omega_start], aopts.threshold, sopts, hopts).failed);
+    let mut cur = if let Some((omega, z, error)) = first {
+        Judged { omega, z, error, ..Judged::unswept(basis, prediction, rom) }
     } else {
     // A basis too poor to converge at the first frequency has no reduced solution to
     // regenerate from: enlarge gamma (uniting as below) while corrections remain.
@@ -633,7 +669,7 @@ pub fn adaptive_sweep_from(
                 break CorrectionEnd::NoProgress;
             }
         }
-        let before = cur.error;
+        let (before, judged_before) = (cur.error, cur.omega);
         let kind = if regenerate_next {
             let q = cur.rom.full_coefficients(cur.omega, &cur.z)?;
             popts.shape = GeneratingShape::Given { static_part: Some(q[0].clone()), cos: q[1].clone(), sin: q[2].clone() };
@@ -713,9 +749,11 @@ pub fn adaptive_sweep_from(
             _ => {}
         }
         // A gamma step swept after steps judged at one point only has found where the basis
-        // is worst over the band: the next correction regenerates from there (after a
-        // regeneration, as always, a gamma step).
-        regenerate_next = (gamma_step && was_unswept && cur.pass.is_some()) || regenerates_next(gamma_step, before, cur.error, popts.gamma >= aopts.max_gamma);
+        // is worst over the band, and one judged at a new point by screening (its resonance)
+        // has found a point where it fails: the next correction regenerates from there (after
+        // a regeneration, as always, a gamma step).
+        let found = cur.pass.is_some() || !same_point(cur.omega, judged_before);
+        regenerate_next = (gamma_step && was_unswept && found) || regenerates_next(gamma_step, before, cur.error, popts.gamma >= aopts.max_gamma);
         note_poor(&mut poor, &cur, aopts.threshold);
     };
     // A basis kept after screening alone is swept over the band before it is the result.
