@@ -100,6 +100,13 @@ impl Series {
         let style = Style { color, dash: if line { dash } else { Dash::None }, width, marker, max_markers: if line { 12 } else { 0 } };
         Series { label, points, markers: !line, line_and_markers: false, color: None, style: Some(style), on_top: solver == Some("FO") }
     }
+    /// A ROM pass' linearised-error checks (`label` starts with the solver's name): large
+    /// circles in the solver's full colour, no line, drawn on top of the sweeps' curves.
+    pub fn checks(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        let label = label.into();
+        let style = Style { color: solver_color(&label), dash: Dash::None, width: 4, marker: Marker::Circle, max_markers: 0 };
+        Series { label, points, markers: true, line_and_markers: false, color: None, style: Some(style), on_top: true }
+    }
     /// The same series in a fixed look.
     pub fn styled(mut self, style: Style) -> Self {
         self.style = Some(style);
@@ -204,14 +211,21 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 }
 
 /// Tick label: on log axes the decades (`1e-5`), and on an axis of at most two decades also
-/// `2e-5` and `5e-5`; other ticks are left unlabelled, so no label repeats. Plain numbers on
-/// linear axes, with as many digits as the axis' span (`span`) needs for neighbouring ticks to
-/// differ (a static term that varies in its fifth digit: `-2.00012e-5`, `-2.00014e-5`).
-fn tick(v: f64, log: bool, decades: f64, span: f64) -> String {
+/// `2e-5` and `5e-5`; other ticks are left unlabelled, so no label repeats. On linear axes one
+/// notation for the whole axis `(lo, hi)`: plain numbers when its largest magnitude is in
+/// `[1e-3, 1e5)`, else scientific (`0.001` and `5.0e-4` never share an axis), with as many
+/// digits as the axis' span needs for neighbouring ticks to differ (a static term that varies
+/// in its fifth digit: `-2.00012e-5`, `-2.00014e-5`).
+fn tick(v: f64, log: bool, decades: f64, (lo, hi): (f64, f64)) -> String {
     if !log {
         let a = v.abs();
+        let span = hi - lo;
         let step = (span / 10.0).abs();
-        if a != 0.0 && !(1e-3..1e5).contains(&a) {
+        let largest = lo.abs().max(hi.abs());
+        if largest != 0.0 && !(1e-3..1e5).contains(&largest) {
+            if a == 0.0 || a < 1e-9 * largest {
+                return "0".into();
+            }
             let digits = if step > 0.0 && step.is_finite() { ((a / step).log10().ceil().max(1.0) as usize).min(12) } else { 1 };
             return format!("{v:.digits$e}");
         }
@@ -270,8 +284,8 @@ fn draw_plot(svg: &mut String, path: &Path, spec: &PlotSpec, series: &[Series]) 
                 .configure_mesh()
                 .x_desc(spec.x_label)
                 .y_desc(spec.y_label)
-                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x, (x1 / x0).log10(), x1 - x0))
-                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y, (y1 / y0).log10(), y1 - y0))
+                .x_label_formatter(&|v: &f64| tick(*v, spec.log_x, (x1 / x0).log10(), (x0, x1)))
+                .y_label_formatter(&|v: &f64| tick(*v, spec.log_y, (y1 / y0).log10(), (y0, y1)))
                 .light_line_style(WHITE.mix(0.0))
                 .bold_line_style(BLACK.mix(0.12))
                 .draw()
@@ -459,8 +473,8 @@ pub fn write_energy_map(path: &Path, title: &str, positions: &[[f64; 3]], frames
                 .y_desc(y_desc.as_str())
                 .x_labels(5)
                 .y_labels(5)
-                .x_label_formatter(&|v: &f64| tick(*v, false, 0.0, 2.0 * half))
-                .y_label_formatter(&|v: &f64| tick(*v, false, 0.0, 2.0 * half))
+                .x_label_formatter(&|v: &f64| tick(*v, false, 0.0, (cx - half, cx + half)))
+                .y_label_formatter(&|v: &f64| tick(*v, false, 0.0, (cy - half, cy + half)))
                 .light_line_style(WHITE.mix(0.0))
                 .bold_line_style(BLACK.mix(0.12))
                 .draw()
@@ -493,4 +507,31 @@ pub fn write_energy_map(path: &Path, title: &str, positions: &[[f64; 3]], frames
         root.present().map_err(|e| plot_err(path, e))?;
     }
     jprom::io::write_file(path, |w| w.write_all(svg.as_bytes()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick;
+
+    /// One notation per linear axis: the FRF of the demo's partial-slip level (0 to 3.5e-3 mm)
+    /// was labelled `0.001 ... 5.0e-4 ... 0`.
+    #[test]
+    fn linear_ticks_share_one_notation_per_axis() {
+        let axis = (-1.7e-4, 3.6e-3);
+        let labels: Vec<String> = [0.0, 5e-4, 1e-3, 2.5e-3].iter().map(|&v| tick(v, false, 0.0, axis)).collect();
+        assert_eq!(labels, ["0", "0.0005", "0.001", "0.0025"]);
+        let small = (-2e-5, 4.2e-4);
+        let labels: Vec<String> = [0.0, 1e-4, 4e-4].iter().map(|&v| tick(v, false, 0.0, small)).collect();
+        assert!(labels[0] == "0" && labels[1..].iter().all(|l| l.contains('e')), "{labels:?}");
+        // neighbouring ticks of an axis spanning its fifth digit differ
+        let narrow = (-2.00016e-5, -2.00010e-5);
+        assert_ne!(tick(-2.00012e-5, false, 0.0, narrow), tick(-2.00014e-5, false, 0.0, narrow));
+    }
+
+    #[test]
+    fn log_ticks_label_decades_only_beyond_two_decades() {
+        assert_eq!(tick(1e-3, true, 4.0, (1e-5, 1e-1)), "1e-3");
+        assert_eq!(tick(5e-3, true, 4.0, (1e-5, 1e-1)), "");
+        assert_eq!(tick(5e-3, true, 2.0, (1e-3, 1e-1)), "5e-3");
+    }
 }

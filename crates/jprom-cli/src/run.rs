@@ -883,8 +883,8 @@ fn write_study_plots(study: &Study, out_dir: &Path, summary: &CaseRows, plots: &
         let (lo, hi) = (study.band.hz_start, study.band.hz_end);
         let threshold = study.basis.error_threshold;
         series.push(Series::line(format!("threshold {threshold}"), vec![(lo, threshold), (hi, threshold)]).styled(Style { color: RGBColor(120, 120, 120), dash: Dash::Dashed, width: 1, marker: Marker::None, max_markers: 0 }));
-        let title = format!("Predicted error e*_1 along the reduced sweeps, alpha_ST x {level:e}, H = {h}");
-        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "predicted e*_1", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
+        let title = format!("Predicted error e*_1 along the reduced sweeps, linearised error at the checks, alpha_ST x {level:e}, H = {h}");
+        let spec = PlotSpec { title: &title, x_label: "frequency [Hz]", y_label: "predicted e*_1 (lines), linearised e_lin_1 (circles)", log_x: false, log_y: true, diagonal: false, legend: Legend::UpperRight };
         write_plot(&file(format!("predicted_error_vs_frequency_alpha_ST_x{level:e}.svg")), &spec, &series)?;
     }
     for &level in &study.forcing.levels {
@@ -1072,6 +1072,12 @@ fn reduced_level(
     series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, run.response))).collect(), true));
     series.frf0.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, run.response))).collect(), true));
     series.e_stars.push(SolverSeries::new(rom_label.clone(), res.points.iter().zip(errors).filter_map(|(q, e)| Some((q.omega / TWO_PI, *e.get(1)?))).collect(), true));
+    // e* flags, the linearised error at the checks judges the pass (rom::adaptive): both on
+    // one chart, so that an e* above the threshold on a pass within it reads right
+    if !adaptive.checks.is_empty() {
+        let checks = adaptive.checks.iter().map(|k| (k.omega / TWO_PI, k.linearised)).collect();
+        series.e_stars.push(SolverSeries { checks: true, ..SolverSeries::new(format!("{name}, e_lin_1 at the checks"), checks, false) });
+    }
     let p = peak(&res.points, run.response).ok_or_else(|| JpError::invalid("reduced sweep", "no point"))?;
     let mut warnings = sweep_warnings(res, p, run.band);
     if adaptive.worst_error > aopts.threshold {
@@ -1193,14 +1199,21 @@ pub struct SolverSeries {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub line: bool,
+    /// The points where a ROM pass' linearised error was checked ([`Series::checks`]).
+    #[serde(default)]
+    pub checks: bool,
 }
 
 impl SolverSeries {
     fn new(label: impl Into<String>, points: Vec<(f64, f64)>, line: bool) -> Self {
-        SolverSeries { label: label.into(), points, line }
+        SolverSeries { label: label.into(), points, line, checks: false }
     }
     fn series(self) -> Series {
-        Series::solver(self.label, self.points, self.line)
+        if self.checks {
+            Series::checks(self.label, self.points)
+        } else {
+            Series::solver(self.label, self.points, self.line)
+        }
     }
 }
 

@@ -82,6 +82,8 @@ fn small_study_writes_results_and_the_rom_follows_the_full_order() {
     }
     let e_star = std::fs::read_to_string(out_dir.join("predicted_error_vs_frequency_alpha_ST_x1e-1.svg")).unwrap();
     assert!(e_star.contains("predicted e*_1") && e_star.contains("threshold 0.05") && e_star.contains("NLR, n_h = ["), "e* plot");
+    // and the linearised errors that judged the pass, as circles (the sweep's e* has none)
+    assert!(e_star.contains("NLR, e_lin_1 at the checks") && e_star.matches("<circle").count() >= 2, "e* plot: the checks");
     // peak |X1| of FO and NLR from the CSVs
     let peak = |name: &str| {
         let text = std::fs::read_to_string(out_dir.join(name)).unwrap();
