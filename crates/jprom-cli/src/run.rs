@@ -1273,7 +1273,7 @@ pub struct SharedBasis {
 }
 
 /// The prediction options of a study: its band, `gamma`, samples and modes beyond the band.
-fn prediction_options(study: &Study) -> PredictionOptions {
+pub fn prediction_options(study: &Study) -> PredictionOptions {
     let band = (TWO_PI * study.band.hz_start, TWO_PI * study.band.hz_end);
     let mut popts = PredictionOptions::new(band);
     popts.gamma = study.basis.gamma;

@@ -12,7 +12,6 @@
 
 use jprom::condensation::CondensedSystem;
 use jprom::hbm::{solve_point, sweep, HbmOptions, PointSolution};
-use jprom::jp::PredictionOptions;
 use jprom::model::ContactCoordinates;
 use jprom::rom::tangent_peak::tangent_peak;
 use jprom::rom::{adaptive_sweep_from, AdaptiveOptions, CorrectionEnd, CorrectionKind, RomKind};
@@ -37,11 +36,7 @@ fn gross_slip_candidates_are_judged_at_their_resonance_without_a_pass() {
     let coords = ContactCoordinates::new(&model, disc).unwrap();
     let condensed = CondensedSystem::new(&model, disc).unwrap();
     let band = (TAU * study.band.hz_start, TAU * study.band.hz_end);
-    let mut popts = PredictionOptions::new(band);
-    popts.gamma = study.basis.gamma;
-    popts.n_samples = study.basis.samples;
-    popts.modes.extra_outside = study.basis.extra_modes;
-    popts.slipping = study.basis.slipping.into();
+    let popts = jprom_cli::run::prediction_options(&study);
     let sopts = study.band.sweep_options();
     let hopts = HbmOptions::default();
     let response = study.response_output();
