@@ -56,7 +56,7 @@ module jprom_c
                                   JPROM_DENSE_MAX_DOF = 10000, JPROM_MAX_FORCE_HARMONIC = 1024
   !> Sizes of the options structs' first versions (struct_size of an older caller).
   integer(c_size_t), parameter :: JPROM_HBM_OPTIONS_V1_SIZE = 48, JPROM_SWEEP_OPTIONS_V1_SIZE = 56, &
-                                  JPROM_JP_OPTIONS_V1_SIZE = 72
+                                  JPROM_JP_OPTIONS_V1_SIZE = 72, JPROM_JP_OPTIONS_V2_SIZE = 80
 
   !> Harmonic balance options. Fill with jprom_hbm_options_init(opts, c_sizeof(opts)).
   type, bind(C) :: jprom_hbm_options
@@ -89,6 +89,12 @@ module jprom_c
     real(c_double) :: gamma_growth, max_gamma
     !> version 2 (0.3): a JPROM_SLIPPING_* value (default JPROM_SLIPPING_NEVER)
     integer(c_int) :: slipping
+    !> version 3 (0.3): samples of a correction's prediction (default 10); screening of candidate bases and
+    !> the linearised-error checks (nonzero: on, the defaults); the output locating a pass' resonance (0-based,
+    !> default 0)
+    integer(c_size_t) :: regeneration_samples
+    integer(c_int) :: screen, verify
+    integer(c_size_t) :: response_output
   end type
 
   interface
@@ -421,6 +427,13 @@ module jprom_c
       type(c_ptr), value :: sweep
       integer(c_int), intent(out) :: reason
       real(c_double), intent(out) :: judged_error
+    end function
+    integer(c_int) function jprom_sweep_result_correction_swept(sweep, i, out) &
+        bind(C, name="jprom_sweep_result_correction_swept")
+      import :: c_int, c_ptr, c_size_t
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      integer(c_int), intent(out) :: out
     end function
     integer(c_int) function jprom_sweep_result_static_error(sweep, out) &
         bind(C, name="jprom_sweep_result_static_error")
@@ -984,7 +997,7 @@ module jprom
   public :: jp_basis_predict, jp_basis_from_solution, jp_basis_sizes, jp_basis_free, jp_basis_save, jp_basis_load, &
             jp_rom_sweep, jp_rom_sweep_adaptive, jp_sweep_point_error, jp_sweep_n_corrections, jp_sweep_correction, &
             jp_correction_kind_name, jp_sweep_correction_end, jp_correction_end_name, jp_rom_actual_error, &
-            jp_sweep_static_error
+            jp_sweep_static_error, jp_sweep_correction_swept
   ! FE models
   public :: jp_fe_new_csc, jp_fe_load_calculix, jp_fe_free, jp_fe_n_dof, jp_fe_node_set, jp_fe_add_contact, &
             jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce, jp_fe_unreduced
@@ -1923,6 +1936,20 @@ contains
       sizes = int(buf)
     end if
     jp_sweep_correction = finish(s, message)
+  end function
+
+  !> Whether correction k (1-based) of a self-correcting sweep was swept over the band (.false.: judged without a
+  !> pass, screened out at the points where the bases before it were poor; its worst_after is its error there).
+  integer function jp_sweep_correction_swept(sweep, k, swept, message)
+    use jprom_c, only: jprom_sweep_result_correction_swept
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: k
+    logical, intent(out) :: swept
+    character(len=*), intent(out), optional :: message
+    integer(c_int) :: s, v
+    s = jprom_sweep_result_correction_swept(sweep, c_index(k), v)
+    if (s == JPROM_OK) swept = v /= 0
+    jp_sweep_correction_swept = finish(s, message)
   end function
 
   !> A short name for a correction kind ("replaced", "regenerated", "gamma_increased"; "unknown" otherwise).

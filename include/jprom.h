@@ -63,6 +63,9 @@
 // `struct_size` of version 1 of `jprom_jp_options` (up to `max_gamma`).
 #define JPROM_JP_OPTIONS_V1_SIZE 72
 
+// `struct_size` of version 2 of `jprom_jp_options` (up to `slipping`, padded).
+#define JPROM_JP_OPTIONS_V2_SIZE 80
+
 // Highest harmonic `H` accepted in `jprom_hbm_options.harmonics`.
 #define JPROM_MAX_HARMONICS 64
 
@@ -299,6 +302,25 @@ typedef struct {
   // is worth it at gross slip, where the stuck mode misses the resonance;
   // docs/formulation.md §8.8).
   int slipping;
+  // Version 3 (0.3, after `slipping`): samples of a correction's prediction along the
+  // reduced solution it regenerates from (default 10, >= 1, at most `JPROM_MAX_SAMPLES`; the
+  // first basis takes `n_samples`). Along a reduced solution nearly every sample is a contact
+  // pattern of its own, so a regeneration with 100 samples costs as much as the first basis
+  // and adds as many modes (docs/formulation.md §8.9).
+  size_t regeneration_samples;
+  // Version 3: nonzero (default 1) judges each candidate basis first at the points where the bases
+  // before it were judged poor and where its own response peaks, and sweeps it over the
+  // band only if it is within `threshold` there; 0 sweeps every candidate
+  // (docs/formulation.md §10.5).
+  int screen;
+  // Version 3: nonzero (default 1) judges each pass by the linearised error (one full-order Newton
+  // step from the reduced solution) at its resonance and at the points of largest `e*_1`;
+  // 0 judges it by `e*_1` alone, as the paper (which overstates the error where contacts
+  // stick off resonance; docs/formulation.md §10).
+  int verify;
+  // Version 3: the output (`0 ..` the model's outputs) whose first-harmonic amplitude
+  // locates a pass' resonance, where its linearised error is checked (default 0).
+  size_t response_output;
 } jprom_jp_options;
 
 // A user-defined element law (`jprom_model_add_element_callback`): at one time sample, from
@@ -657,6 +679,16 @@ jprom_status jprom_sweep_result_correction(const jprom_sweep_result *sweep,
                                            double *worst_after,
                                            size_t *sizes,
                                            size_t len);
+
+// Whether correction `index` (0-based) of an adaptive sweep was swept over the band: 1 if
+// its basis was swept, 0 if it was judged without a pass (screened out at the points where
+// the bases before it were poor, or its modes already in the basis' span; its
+// `worst_after` from `jprom_sweep_result_correction` is then its error at the point where it
+// was judged). `JPROM_INVALID_VALUE` if `index` is out of range, nothing written then. Since
+// 0.3.
+jprom_status jprom_sweep_result_correction_swept(const jprom_sweep_result *sweep,
+                                                 size_t index,
+                                                 int *out);
 
 // The actual error `e_h`, `h = 0..H` (docs/formulation.md §10.1, paper (44)) of a reduced solution: the
 // contact forces of `rom_solution` (a point of `jprom_rom_sweep` / `jprom_rom_sweep_adaptive`

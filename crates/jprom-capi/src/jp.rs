@@ -228,12 +228,34 @@ pub struct jprom_jp_options {
     /// is worth it at gross slip, where the stuck mode misses the resonance;
     /// docs/formulation.md §8.8).
     pub slipping: c_int,
+    /// Version 3 (0.3, after `slipping`): samples of a correction's prediction along the
+    /// reduced solution it regenerates from (default 10, >= 1, at most `JPROM_MAX_SAMPLES`; the
+    /// first basis takes `n_samples`). Along a reduced solution nearly every sample is a contact
+    /// pattern of its own, so a regeneration with 100 samples costs as much as the first basis
+    /// and adds as many modes (docs/formulation.md §8.9).
+    pub regeneration_samples: usize,
+    /// Version 3: nonzero (default 1) judges each candidate basis first at the points where the bases
+    /// before it were judged poor and where its own response peaks, and sweeps it over the
+    /// band only if it is within `threshold` there; 0 sweeps every candidate
+    /// (docs/formulation.md §10.5).
+    pub screen: c_int,
+    /// Version 3: nonzero (default 1) judges each pass by the linearised error (one full-order Newton
+    /// step from the reduced solution) at its resonance and at the points of largest `e*_1`;
+    /// 0 judges it by `e*_1` alone, as the paper (which overstates the error where contacts
+    /// stick off resonance; docs/formulation.md §10).
+    pub verify: c_int,
+    /// Version 3: the output (`0 ..` the model's outputs) whose first-harmonic amplitude
+    /// locates a pass' resonance, where its linearised error is checked (default 0).
+    pub response_output: usize,
 }
 
 /// `struct_size` of version 1 of `jprom_jp_options` (up to `max_gamma`).
 pub const JPROM_JP_OPTIONS_V1_SIZE: usize = 72;
+/// `struct_size` of version 2 of `jprom_jp_options` (up to `slipping`, padded).
+pub const JPROM_JP_OPTIONS_V2_SIZE: usize = 80;
 // A released prefix ends where the next version's fields begin (see solve.rs).
 const _: () = assert!(std::mem::offset_of!(jprom_jp_options, slipping) == JPROM_JP_OPTIONS_V1_SIZE);
+const _: () = assert!(std::mem::offset_of!(jprom_jp_options, regeneration_samples) == JPROM_JP_OPTIONS_V2_SIZE);
 
 /// Where the JP prediction samples the contacts besides the stuck mode: the
 /// `slipping` field of `jprom_jp_options` (docs/formulation.md §8.8).
@@ -275,7 +297,7 @@ fn slipping_samples(v: c_int) -> Result<SlippingSamples, FfiError> {
 
 impl Versioned for jprom_jp_options {
     const NAME: &'static str = "jprom_jp_options";
-    const SIZES: &'static [usize] = &[JPROM_JP_OPTIONS_V1_SIZE, std::mem::size_of::<jprom_jp_options>()];
+    const SIZES: &'static [usize] = &[JPROM_JP_OPTIONS_V1_SIZE, JPROM_JP_OPTIONS_V2_SIZE, std::mem::size_of::<jprom_jp_options>()];
     fn defaults() -> Self {
         let p = PredictionOptions::new((0.0, 0.0));
         let a = AdaptiveOptions::default();
@@ -290,6 +312,10 @@ impl Versioned for jprom_jp_options {
             gamma_growth: a.gamma_growth,
             max_gamma: a.max_gamma,
             slipping: jprom_slipping_samples::from(p.slipping) as c_int,
+            regeneration_samples: a.regeneration_samples,
+            screen: a.screen as c_int,
+            verify: a.verify as c_int,
+            response_output: a.response_output,
         }
     }
 }
@@ -339,7 +365,10 @@ impl JpOptions {
             max_corrections: self.c.max_corrections,
             gamma_growth: self.c.gamma_growth,
             max_gamma: self.c.max_gamma,
-            ..AdaptiveOptions::default()
+            verify: self.c.verify != 0,
+            response_output: self.c.response_output,
+            regeneration_samples: self.c.regeneration_samples,
+            screen: self.c.screen != 0,
         }
     }
 }
@@ -352,6 +381,10 @@ unsafe fn jp_options_arg(p: *const jprom_jp_options) -> Result<JpOptions, FfiErr
     finite_arg("gamma_growth", o.gamma_growth)?;
     finite_arg("max_gamma", o.max_gamma)?;
     jprom::limits::at_most("jprom_jp_options.n_samples", o.n_samples, jprom::limits::MAX_SAMPLES)?;
+    jprom::limits::at_most("jprom_jp_options.regeneration_samples", o.regeneration_samples, jprom::limits::MAX_SAMPLES)?;
+    if o.regeneration_samples == 0 {
+        return Err(FfiError::new(JPROM_INVALID_VALUE, "jprom_jp_options.regeneration_samples is 0; it must be >= 1 (default 10)"));
+    }
     if o.max_gamma < o.gamma {
         return Err(FfiError::new(JPROM_INVALID_VALUE, format!("max_gamma ({}) < gamma ({})", o.max_gamma, o.gamma)));
     }
@@ -466,6 +499,10 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         // the JP band is the band swept, whichever way it is swept
         let pred = jo.prediction((sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
         let aopts = jo.adaptive(kind);
+        let n_outputs = m.model.output_dofs.len();
+        if aopts.response_output >= n_outputs.max(1) {
+            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("jprom_jp_options.response_output is {}; the model has {n_outputs} outputs", aopts.response_output)));
+        }
         // one progress counter per reduced sweep
         let mut pass_now = 0;
         let mut adapter = progress_adapter(callback, user_data);
@@ -656,6 +693,27 @@ pub unsafe extern "C" fn jprom_sweep_result_correction(
         if let Some(x) = worst_after.as_mut() {
             *x = c.worst_error_after;
         }
+        Ok(())
+    })
+}
+
+/// Whether correction `index` (0-based) of an adaptive sweep was swept over the band: 1 if
+/// its basis was swept, 0 if it was judged without a pass (screened out at the points where
+/// the bases before it were poor, or its modes already in the basis' span; its
+/// `worst_after` from `jprom_sweep_result_correction` is then its error at the point where it
+/// was judged). `JPROM_INVALID_VALUE` if `index` is out of range, nothing written then. Since
+/// 0.3.
+#[no_mangle]
+pub unsafe extern "C" fn jprom_sweep_result_correction_swept(sweep: *const jprom_sweep_result, index: usize, out: *mut c_int) -> jprom_status {
+    ffi_guard!({
+        let out = out_arg(out, "out")?;
+        let s = handle::get(sweep, "sweep")?;
+        let c = s
+            .record
+            .corrections
+            .get(index)
+            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))?;
+        *out = c_int::from(c.swept);
         Ok(())
     })
 }

@@ -260,6 +260,93 @@ fn jp_options_slipping_is_the_rust_slipping_samples() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Version 3 of `jprom_jp_options` carries the self-correcting sweep's remaining settings
+/// (`regeneration_samples`, `screen`, `verify`, `response_output`): their defaults are Rust's,
+/// set from C they reach the sweep (the same corrections, sizes and swept flags as the Rust
+/// sweep with those options, and a different sequence from the defaults', so the comparison
+/// can fail), a version-2 caller gets the defaults, and bad values are refused.
+#[test]
+fn jp_options_version_3_reaches_the_self_correcting_sweep() {
+    let band = (80.0, 200.0);
+    let model = rust_model();
+    let pred = PredictionOptions { n_samples: 5, gamma: 3.0, ..PredictionOptions::new(band) };
+    let base = AdaptiveOptions { kind: RomKind::Nlr, threshold: 1e-6, max_corrections: 3, ..AdaptiveOptions::default() };
+    let set = AdaptiveOptions { screen: false, verify: false, regeneration_samples: 3, response_output: 1, ..base.clone() };
+    let rust = |a: &AdaptiveOptions| adaptive_sweep_with_progress(&model, 1, &pred, &SweepOptions::band(band.0, band.1), &HbmOptions::default(), a, &mut |_, _| ControlFlow::Continue(())).unwrap();
+    let summary = |c: &[Correction]| c.iter().map(|c| (std::mem::discriminant(&c.kind), c.sizes.clone(), c.swept)).collect::<Vec<_>>();
+    let (r_base, r_set) = (rust(&base), rust(&set));
+    assert_ne!(summary(&r_base.corrections), summary(&r_set.corrections), "the settings must change the sequence for this test to tell them apart");
+    unsafe {
+        let m = c_model();
+        let (opts, sopts, mut jo) = c_options(band);
+        assert_eq!((jo.regeneration_samples, jo.screen, jo.verify, jo.response_output), (base.regeneration_samples, 1, 1, 0), "defaults");
+        assert_eq!(std::mem::offset_of!(jprom_jp_options, regeneration_samples), JPROM_JP_OPTIONS_V2_SIZE);
+        jo.n_samples = 5;
+        jo.gamma = 3.0;
+        jo.threshold = 1e-6;
+        jo.max_corrections = 3;
+        // the C sweep's corrections: (kind, sizes, swept)
+        let c_sweep = |jo: &jprom_jp_options| {
+            let mut s = std::ptr::null_mut();
+            ok(jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, jo, None, std::ptr::null_mut(), &mut s, std::ptr::null_mut()));
+            let mut n = 0;
+            ok(jprom_sweep_result_n_corrections(s, &mut n));
+            let got: Vec<(c_int, Vec<usize>, bool)> = (0..n)
+                .map(|i| {
+                    let (mut kind, mut swept) = (-1, -1);
+                    let mut sizes = [0usize; 2];
+                    ok(jprom_sweep_result_correction(s, i, &mut kind, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut(), sizes.as_mut_ptr(), 2));
+                    ok(jprom_sweep_result_correction_swept(s, i, &mut swept));
+                    assert!(swept == 0 || swept == 1);
+                    (kind, sizes.to_vec(), swept == 1)
+                })
+                .collect();
+            let mut x = 0;
+            assert_eq!(jprom_sweep_result_correction_swept(s, n, &mut x), jprom_status::JPROM_INVALID_VALUE);
+            assert_eq!(jprom_sweep_result_correction_swept(s, 0, std::ptr::null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
+            ok(jprom_sweep_result_free(s));
+            got
+        };
+        let want = |c: &[Correction]| {
+            c.iter()
+                .map(|c| {
+                    let k = match c.kind {
+                        CorrectionKind::Regenerated { .. } => jprom_correction_kind::JPROM_CORRECTION_REGENERATED,
+                        CorrectionKind::GammaIncreased { .. } => jprom_correction_kind::JPROM_CORRECTION_GAMMA_INCREASED,
+                        CorrectionKind::Replaced { .. } => jprom_correction_kind::JPROM_CORRECTION_REPLACED,
+                    };
+                    (k as c_int, c.sizes.clone(), c.swept)
+                })
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(c_sweep(&jo), want(&r_base.corrections), "defaults");
+        jo.screen = 0;
+        jo.verify = 0;
+        jo.regeneration_samples = 3;
+        jo.response_output = 1;
+        assert_eq!(c_sweep(&jo), want(&r_set.corrections), "version-3 fields set");
+        // a version-2 caller: the bytes past its prefix are not read
+        jo.struct_size = JPROM_JP_OPTIONS_V2_SIZE;
+        assert_eq!(c_sweep(&jo), want(&r_base.corrections), "version 2");
+        jo.struct_size = std::mem::size_of::<jprom_jp_options>();
+        // refused, naming the field, nothing written
+        for (field, bad) in [("regeneration_samples", 0usize), ("regeneration_samples", 10_001), ("response_output", 2)] {
+            let mut j = jo;
+            match field {
+                "regeneration_samples" => j.regeneration_samples = bad,
+                _ => j.response_output = bad,
+            }
+            let mut s = std::ptr::null_mut();
+            let st = jprom_rom_sweep_adaptive(m, jprom_rom_kind::JPROM_ROM_NLR as c_int, &opts, &sopts, &j, None, std::ptr::null_mut(), &mut s, std::ptr::null_mut());
+            assert_ne!(st, jprom_status::JPROM_OK, "{field} = {bad}");
+            assert!(s.is_null());
+            let msg = std::ffi::CStr::from_ptr(jprom_last_error_message()).to_string_lossy().into_owned();
+            assert!(msg.contains(field) && msg.contains(&bad.to_string()), "{msg}");
+        }
+        ok(jprom_model_free(m));
+    }
+}
+
 #[test]
 fn adaptive_sweep_through_c_matches_the_rust_api() {
     let band = (80.0, 200.0);

@@ -233,7 +233,7 @@ static jprom_jp_options jp_opts(void) {
     o.n_samples = 1 + below(12);
     o.max_corrections = below(3); /* SIZE_MAX is issue 12's open continuation item, not fuzzed here */
     if (chance(15)) {
-        int k = (int)below(10);
+        int k = (int)below(14);
         if (k == 0) o.gamma = rdouble();
         if (k == 1) o.n_samples = rsize();
         if (k == 2) o.extra_outside = rsize();
@@ -244,6 +244,10 @@ static jprom_jp_options jp_opts(void) {
         if (k == 7) o.struct_size = rsize();
         if (k == 8) o.threshold = 1e-300;
         if (k == 9) o.slipping = chance(50) ? (int)below(3) : (int)rnd();
+        if (k == 10) o.regeneration_samples = chance(50) ? below(4) : rsize();
+        if (k == 11) o.screen = (int)rnd();
+        if (k == 12) o.verify = (int)rnd();
+        if (k == 13) o.response_output = chance(50) ? below(4) : rsize();
     }
     return o;
 }
@@ -251,9 +255,9 @@ static jprom_jp_options jp_opts(void) {
 /* Records a costly call's options for the SIGTERM report. */
 static void note_options(const jprom_hbm_options *o, const jprom_sweep_options *so, const jprom_jp_options *jo) {
     snprintf(last_options, sizeof last_options,
-             "H %zu nt %zu max_iterations %zu condensed %d; band %g..%g max_points %zu; gamma %g n_samples %zu extra_outside %zu threshold %g max_corrections %zu gamma_growth %g max_gamma %g slipping %d",
+             "H %zu nt %zu max_iterations %zu condensed %d; band %g..%g max_points %zu; gamma %g n_samples %zu extra_outside %zu threshold %g max_corrections %zu gamma_growth %g max_gamma %g slipping %d regeneration_samples %zu screen %d verify %d response_output %zu",
              o->harmonics, o->nt, o->max_iterations, o->condensed, so ? so->omega_start : 0.0, so ? so->omega_end : 0.0, so ? so->max_points : 0,
-             jo->gamma, jo->n_samples, jo->extra_outside, jo->threshold, jo->max_corrections, jo->gamma_growth, jo->max_gamma, jo->slipping);
+             jo->gamma, jo->n_samples, jo->extra_outside, jo->threshold, jo->max_corrections, jo->gamma_growth, jo->max_gamma, jo->slipping, jo->regeneration_samples, jo->screen, jo->verify, jo->response_output);
 }
 
 /* ------------------------------------------------------------------ callbacks */
@@ -491,6 +495,7 @@ static void one_call(void) {
         case 13: { jprom_correction_end e; double judged;
                    seen("jprom_sweep_result_correction_end", jprom_sweep_result_correction_end(w, chance(50) ? &e : NULL, chance(50) ? &judged : NULL));
                    seen("jprom_sweep_result_static_error", jprom_sweep_result_static_error(w, chance(50) ? &judged : NULL));
+                   seen("jprom_sweep_result_correction_swept", jprom_sweep_result_correction_swept(w, chance(80) ? below(3) : rsize(), chance(90) ? &iout : NULL));
                    (void)jprom_correction_end_name((int)below(8) - 2);
                    (void)jprom_correction_kind_name((int)below(8) - 2);
                    break; }

@@ -261,6 +261,11 @@ int main(int argc, char **argv) {
         double w0 = -1.0;
         expect(jprom_sweep_result_static_error(sweep, &w0), JPROM_INVALID_VALUE, "static_error of a full-order sweep", "not a self-correcting sweep");
         check(w0 == -1.0, "a refused static_error writes nothing");
+        int swept = -1;
+        expect(jprom_sweep_result_correction_swept(sweep, 0, &swept), JPROM_INVALID_VALUE, "correction_swept of a sweep without corrections", "correction index 0");
+        expect(jprom_sweep_result_correction_swept(NULL, 0, &swept), JPROM_NULL_ARGUMENT, "correction_swept of a NULL sweep", "sweep");
+        expect(jprom_sweep_result_correction_swept(sweep, 0, NULL), JPROM_NULL_ARGUMENT, "correction_swept into NULL", "'out'");
+        check(swept == -1, "a refused correction_swept writes nothing");
     }
     size_t live_before = 0, live_after = 0;
     jprom_live_handle_count(&live_before);

@@ -27,7 +27,7 @@ program binding
   integer(c_size_t) :: budget
   integer(c_int64_t) :: node_rows(6, 3)
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
-  logical :: reached, repro
+  logical :: reached, repro, swept
   character(len=200) :: why
 
   call get_command_argument(1, dir)
@@ -178,7 +178,8 @@ program binding
   ! ---- JP: basis of a full-order solution, save/load, reduced sweep, actual error ----
   call jp_default_jp_options(jp_opts)
   call check(jp_opts%struct_size == c_sizeof(jp_opts) .and. jp_opts%threshold == 0.05d0 .and. &
-             jp_opts%slipping == JPROM_SLIPPING_NEVER, 'jp_default_jp_options')
+             jp_opts%slipping == JPROM_SLIPPING_NEVER .and. jp_opts%regeneration_samples == 10 .and. &
+             jp_opts%screen == 1 .and. jp_opts%verify == 1 .and. jp_opts%response_output == 0, 'jp_default_jp_options')
   call ok(jp_basis_from_solution(model, sol, opts, jp_opts, 60.0d0, 160.0d0, basis, msg), 'jp_basis_from_solution')
   call ok(jp_basis_sizes(basis, sizes, hh), 'jp_basis_sizes')
   call ok(jp_basis_save(basis, trim(dir) // '/basis.json', msg), 'jp_basis_save')
@@ -208,7 +209,10 @@ program binding
     call ok(jp_sweep_correction(asweep, 1, kind, value, wb, wa, sizes, msg), 'jp_sweep_correction')
     call check(kind == JPROM_CORRECTION_REPLACED .or. kind == JPROM_CORRECTION_REGENERATED .or. &
                kind == JPROM_CORRECTION_GAMMA_INCREASED, 'correction kind')
+    call ok(jp_sweep_correction_swept(asweep, 1, swept, msg), 'jp_sweep_correction_swept')
   end if
+  call check(jp_sweep_correction_swept(asweep, k + 1, swept, msg) == JPROM_INVALID_VALUE .and. msg /= '', &
+             'correction_swept of correction n + 1 is refused')
   call check(jp_correction_kind_name(JPROM_CORRECTION_REPLACED) == 'replaced' .and. &
              jp_correction_kind_name(JPROM_CORRECTION_REGENERATED) == 'regenerated' .and. &
              jp_correction_kind_name(JPROM_CORRECTION_GAMMA_INCREASED) == 'gamma_increased' .and. &
