@@ -650,6 +650,11 @@ pub unsafe extern "C" fn jprom_sweep_result_n_corrections(sweep: *const jprom_sw
     })
 }
 
+/// Correction `index` of a sweep (`JPROM_INVALID_VALUE` beyond its corrections).
+fn correction_at(s: &jprom_sweep_result, index: usize) -> Result<&jprom::rom::Correction, FfiError> {
+    s.record.corrections.get(index).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))
+}
+
 /// Correction `index` (in order, 0-based) of an adaptive sweep: its kind
 /// (`JPROM_CORRECTION_REPLACED`, `JPROM_CORRECTION_REGENERATED` or
 /// `JPROM_CORRECTION_GAMMA_INCREASED`), the omega it
@@ -670,11 +675,7 @@ pub unsafe extern "C" fn jprom_sweep_result_correction(
 ) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
-        let c = s
-            .record
-            .corrections
-            .get(index)
-            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))?;
+        let c = correction_at(s, index)?;
         if len > 0 {
             check_capacity("sizes", c.sizes.len(), len)?;
         }
@@ -708,11 +709,7 @@ pub unsafe extern "C" fn jprom_sweep_result_correction_swept(sweep: *const jprom
     ffi_guard!({
         let out = out_arg(out, "out")?;
         let s = handle::get(sweep, "sweep")?;
-        let c = s
-            .record
-            .corrections
-            .get(index)
-            .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))?;
+        let c = correction_at(s, index)?;
         *out = c_int::from(c.swept);
         Ok(())
     })
