@@ -80,6 +80,12 @@ class Sweep {
         check(jprom_sweep_result_n_corrections(p_.get(), &n), "jprom_sweep_result_n_corrections");
         return n;
     }
+    // Whether correction i was swept over the band (false: judged at screening points only).
+    bool correction_swept(size_t i) const {
+        int swept = 0;
+        check(jprom_sweep_result_correction_swept(p_.get(), i, &swept), "jprom_sweep_result_correction_swept");
+        return swept != 0;
+    }
     // Why the corrections of a self-correcting sweep ended, and the judged error of its last pass.
     std::pair<jprom_correction_end, double> correction_end() const {
         jprom_correction_end end = JPROM_CORRECTIONS_WITHIN_THRESHOLD;
@@ -205,8 +211,10 @@ int main() {
         std::printf("\n");
         const auto rom = model.sweep_adaptive(JPROM_ROM_NLR, opts, band, jp);
         const jp::Sweep &reduced = rom.first;
-        std::printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections, final n_1 = %zu\n", reduced.size(),
-                    reduced.corrections(), rom.second.sizes()[1]);
+        size_t swept = 0;
+        for (size_t i = 0; i < reduced.corrections(); ++i) swept += reduced.correction_swept(i) ? 1 : 0;
+        std::printf("# JP: self-correcting NLR sweep, %zu points, %zu corrections (%zu swept), final n_1 = %zu\n", reduced.size(),
+                    reduced.corrections(), swept, rom.second.sizes()[1]);
         const auto ended = reduced.correction_end();
         std::printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name(ended.first), ended.second,
                     jp.threshold);
