@@ -499,10 +499,6 @@ pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
         // the JP band is the band swept, whichever way it is swept
         let pred = jo.prediction((sopts.omega_start.min(sopts.omega_end), sopts.omega_start.max(sopts.omega_end)));
         let aopts = jo.adaptive(kind);
-        let n_outputs = m.model.output_dofs.len();
-        if aopts.response_output >= n_outputs.max(1) {
-            return Err(FfiError::new(JPROM_INVALID_VALUE, format!("jprom_jp_options.response_output is {}; the model has {n_outputs} outputs", aopts.response_output)));
-        }
         // one progress counter per reduced sweep
         let mut pass_now = 0;
         let mut adapter = progress_adapter(callback, user_data);

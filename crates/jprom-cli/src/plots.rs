@@ -100,11 +100,11 @@ impl Series {
         let style = Style { color, dash: if line { dash } else { Dash::None }, width, marker, max_markers: if line { 12 } else { 0 } };
         Series { label, points, markers: !line, line_and_markers: false, color: None, style: Some(style), on_top: solver == Some("FO") }
     }
-    /// A ROM pass' linearised-error checks (`label` starts with the solver's name): large
-    /// circles in the solver's full colour, no line, drawn on top of the sweeps' curves.
+    /// A ROM pass' linearised-error checks (`label` starts with the solver's name): circles
+    /// in the solver's full colour, no line, drawn on top of the sweeps' curves.
     pub fn checks(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
         let label = label.into();
-        let style = Style { color: solver_color(&label), dash: Dash::None, width: 4, marker: Marker::Circle, max_markers: 0 };
+        let style = Style { color: solver_color(&label), dash: Dash::None, width: 2, marker: Marker::Circle, max_markers: 0 };
         Series { label, points, markers: true, line_and_markers: false, color: None, style: Some(style), on_top: true }
     }
     /// The same series in a fixed look.

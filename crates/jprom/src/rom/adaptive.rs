@@ -515,12 +515,17 @@ fn regenerates_next(gamma_step: bool, before: f64, after: f64, at_max_gamma: boo
 /// this bounds the sine of the largest principal angle per column).
 const SAME_SPAN_TOL: f64 = 1e-8;
 
-fn check_options(aopts: &AdaptiveOptions) -> Result<()> {
+/// The options' own bounds, and `response_output` among the model's `n_outputs` outputs (any
+/// value would locate no resonance: a pass' checks would go to the points of largest `e*` only).
+fn check_options(aopts: &AdaptiveOptions, n_outputs: usize) -> Result<()> {
     if !(aopts.threshold > 0.0) || !(aopts.gamma_growth > 1.0) {
         return Err(JpError::invalid("AdaptiveOptions", "need threshold > 0 and gamma_growth > 1"));
     }
     if aopts.regeneration_samples == 0 {
         return Err(JpError::invalid("AdaptiveOptions.regeneration_samples", "must be >= 1"));
+    }
+    if aopts.response_output >= n_outputs.max(1) {
+        return Err(JpError::invalid("AdaptiveOptions.response_output", format!("is {}; the model has {n_outputs} outputs", aopts.response_output)));
     }
     Ok(())
 }
@@ -565,7 +570,7 @@ pub fn adaptive_sweep_with_progress(
     aopts: &AdaptiveOptions,
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
-    check_options(aopts)?;
+    check_options(aopts, model.output_dofs.len())?;
     let discretisation = discretisation.into();
     let coords = ContactCoordinates::new(model, discretisation)?;
     let checkable = checkable(&coords);
@@ -594,7 +599,7 @@ pub fn adaptive_sweep_from(
     aopts: &AdaptiveOptions,
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
-    check_options(aopts)?;
+    check_options(aopts, coords.output_dofs.len())?;
     if aopts.kind == RomKind::Nlr && condensed.is_none() {
         return Err(JpError::invalid("adaptive sweep", "NLR needs the condensed full-order system"));
     }
