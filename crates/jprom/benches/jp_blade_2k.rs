@@ -44,6 +44,22 @@
 //! | 1,922 | 5,766 | 233.9 (shared reference) | [32, 10] | 0.120 | 0.114 | 0.040 | 6.8 GB |
 //!
 //! (Before `dS` by its factors, 4163e0b: 259.7 s at 1,922 contacts, 1.5 s at 242.)
+//!
+//! 2026-12-04, a machine about 1.7 times slower (the same code: CB 148.4 s, basis 403.7 s at
+//! 1,922 contacts, 2.2 s at 242): per pattern at 1,922 contacts, 6 to 312 active coordinates
+//! took 11 s, of which 4.7 s were the Arnoldi iteration and its refinement and 6 s the eigen
+//! residuals (one product with the model-sized matrices per pair and per time-shift partner,
+//! and the rounding floors `|K_JC| |v|` by a scalar loop per pair); a fully active one 81 s
+//! (statics 17 s, the dense `dS` 4 s, the capacitance 39 s, Arnoldi 10 s, residuals 9 s). Now
+//! the residuals of all pairs come from one product (`|K_JC| |V|` by panels of `|K|`), `dS` is
+//! only applied by its factors (the residual floors use `|D| + |D_i0| |g_aa| |D_0j|`), the
+//! capacitance is factorised in its place, the cos and sin corrections of a harmonic take one
+//! product with `Y_h`, and the solves with many right-hand sides (`Y_h`, `A_0^-1 E_a^T`) are
+//! checked on three probe combinations instead of the whole product: basis 292.3 s (patterns
+//! 5.4 s to 69 s), 1.7 s at 242 contacts, under 0.05 s at 18; sizes, e*_1 and resonances as
+//! before; FR 0.076 and NLR 0.081 s/point at 1,922 contacts, 0.010 at 242; estimate of the
+//! prediction 6,157 -> 4,029 MB, peak RSS 6,774 -> 5,755 MB. Growth exponent from 242 to 1,922
+//! contacts: basis 2.5, FR per point 1.0.
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact

@@ -127,28 +127,34 @@ fn jacobian_at(coords: &ContactCoordinates, q0: &[f64], phi: &[f64], p: f64) -> 
 /// dense eigen solve, bases against the per-pattern shift-invert), for a slipping pattern on a
 /// stuck reference and the reference itself (no active contact), with and without the static
 /// correction.
+/// The model's contact coordinates at `h` harmonics, the stuck Jacobian, the reference on it at
+/// the band centre and the Jacobian along the stuck mode at the smallest amplitude (factors of
+/// 2) at which a quarter of the contact coordinates are active.
+fn quarter_slipping(blade: &Blade, model: &jprom::model::Model, h: usize) -> (ContactCoordinates, ContactJacobian, ReferenceFactors, ContactJacobian) {
+    let coords = ContactCoordinates::new(model, h).unwrap();
+    let stuck = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, h).unwrap();
+    let centre = 0.5 * (blade.band.0 + blade.band.1);
+    let reference = ReferenceFactors::from_jacobian(&coords, &stuck, centre * centre).unwrap();
+    let q0 = static_solution(&coords).unwrap();
+    let (_, phi) = stuck_mode(&coords, blade.band).unwrap();
+    let mut p = 1e-9;
+    let slipping = loop {
+        let k = jacobian_at(&coords, &q0, &phi, p);
+        if reference.active_part(&coords, &k).unwrap().len() * 4 >= coords.n_w {
+            break k;
+        }
+        p *= 2.0;
+        assert!(p < 1.0, "no slip along the stuck mode");
+    };
+    (coords, stuck, reference, slipping)
+}
+
 #[test]
 fn modes_on_a_reference_match_the_dense_modes() {
     let blade = Blade::build();
     let model = blade.at_level(blade.alpha_st / 10.0);
     for h in [1, 3] {
-        let coords = ContactCoordinates::new(&model, h).unwrap();
-        let stuck = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, h).unwrap();
-        let centre = 0.5 * (blade.band.0 + blade.band.1);
-        let reference = ReferenceFactors::from_jacobian(&coords, &stuck, centre * centre).unwrap();
-        // along the stuck mode, the smallest amplitude (factors of 2) at which a quarter of
-        // the contact coordinates are active
-        let q0 = static_solution(&coords).unwrap();
-        let (_, phi) = stuck_mode(&coords, blade.band).unwrap();
-        let mut p = 1e-9;
-        let slipping = loop {
-            let k = jacobian_at(&coords, &q0, &phi, p);
-            if reference.active_part(&coords, &k).unwrap().len() * 4 >= coords.n_w {
-                break k;
-            }
-            p *= 2.0;
-            assert!(p < 1.0, "no slip along the stuck mode");
-        };
+        let (coords, stuck, reference, slipping) = quarter_slipping(&blade, &model, h);
         let part = reference.active_part(&coords, &slipping).unwrap();
         assert!(part.len() < coords.n_w, "a partly slipping pattern: {} of {} active", part.len(), coords.n_w);
         assert!(reference.active_part(&coords, &stuck).unwrap().is_empty());
@@ -177,3 +183,35 @@ fn modes_on_a_reference_match_the_dense_modes() {
 }
 
 
+
+/// The static corrections' shift-0 solves by GMRES on the band-centre factorisation
+/// (`ShiftedSolve::solve_unshifted`, docs/formulation.md §8.10) equal the solves of a second
+/// factorisation at shift 0, on a pattern with a quarter of its contact coordinates slipping, at
+/// H = 1 and 3; and `K_JC x = b` holds to round-off.
+#[test]
+fn static_corrections_by_gmres_match_the_shift_0_factorisation() {
+    use jprom::jp::reference::active_statics;
+    use jprom::jp::shift_invert::{CondensedProblem, ShiftedFactorisation, ShiftedSolve};
+    let blade = Blade::build();
+    let model = blade.at_level(blade.alpha_st / 10.0);
+    for h in [1, 3] {
+        let (coords, _, reference, slipping) = quarter_slipping(&blade, &model, h);
+        let part = reference.active_part(&coords, &slipping).unwrap();
+        let st = active_statics(&coords, &reference, &part).unwrap();
+        let problem = CondensedProblem::on_reference(&coords, &reference, &part, &st.g_aa);
+        let at_shift = ShiftedSolve::new(&problem, reference.shift(), ShiftedFactorisation::Woodbury).unwrap();
+        let at_zero = ShiftedSolve::new(&problem, 0.0, ShiftedFactorisation::Woodbury).unwrap();
+        let dim = problem.dim();
+        // a harmonic load on every DoF and one on the contact coordinates of harmonic 1 only
+        let b = Mat::from_fn(dim, 2, |i, j| if j == 0 { 1.0 + (i % 7) as f64 } else if i < coords.n_w { ((i % 5) as f64 - 2.0) * 1e3 } else { 0.0 });
+        let by_gmres = at_shift.solve_unshifted(b.as_ref()).expect("GMRES reaches the accepted residual");
+        let direct = at_zero.solve(b.as_ref());
+        for j in 0..2 {
+            let diff = (by_gmres.col(j) - direct.col(j)).norm_l2() / direct.col(j).norm_l2();
+            let res = (problem.apply_shifted(by_gmres.as_ref(), 0.0).col(j) - b.col(j)).norm_l2() / b.col(j).norm_l2();
+            eprintln!("H = {h}, {} active, column {j}: GMRES vs direct {diff:.2e}, residual {res:.2e}", part.len());
+            assert!(diff < 1e-9, "H = {h}, column {j}: {diff:.3e}");
+            assert!(res < 1e-11, "H = {h}, column {j}: residual {res:.3e}");
+        }
+    }
+}

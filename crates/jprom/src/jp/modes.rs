@@ -31,7 +31,7 @@
 
 use super::condensed::condensed_stiffness;
 use super::reference::{active_pattern_working_set_bytes, active_statics, ActivePart, ReferenceFactors};
-use super::shift_invert::{problem_eigenpairs, CondensedProblem, ShiftedFactorisation, ShiftedSolve};
+use super::shift_invert::{problem_shift, solved_eigenpairs, CondensedProblem, ShiftedFactorisation, ShiftedSolve};
 pub use super::mode_selection::{EigenSolver, ModeOptions, AUTO_DENSE_MAX, AUTO_SHIFT_INVERT_MIN, AUTO_SHIFT_INVERT_REQUEST};
 use super::{col_norm, lu_solve, stack_columns, ContactJacobian};
 use crate::error::{JpError, Result};
@@ -185,16 +185,21 @@ pub(crate) fn modes_of_active_part(coords: &ContactCoordinates, part: &ActivePar
     let statics = Statics { a0_inv_e: st.a0_inv_e.as_ref(), rows: &part.rows, x_force: st.x_force.clone(), x_offset: st.x_offset.clone() };
     let coupling = |k: usize, l: usize, x: faer::MatRef<'_, f64>| part.block_times(k, l, x);
     let problem = CondensedProblem::on_reference(coords, reference, part, &st.g_aa);
+    // One factorisation at the band's shift serves the eigen solve and, by GMRES, the static
+    // corrections at shift 0; a second one at 0 only if GMRES does not reach the direct
+    // solve's accuracy (docs/formulation.md §8.10).
+    let solve = ShiftedSolve::new(&problem, problem_shift(&problem, opts), ShiftedFactorisation::Woodbury)?;
     let corrections = if opts.static_correction {
         let rhs = static_correction_rhs(coords, hh, &statics, &coupling, part.k_hat_max);
-        match ShiftedSolve::new(&problem, 0.0, ShiftedFactorisation::Woodbury) {
-            Ok(solve) => static_corrections(rhs, |b| Ok(solve.solve(b.as_ref()))).unwrap_or_default(),
-            Err(_) => Vec::new(),
-        }
+        static_corrections(rhs, |b| match solve.solve_unshifted(b.as_ref()) {
+            Some(x) => Ok(x),
+            None => ShiftedSolve::new(&problem, 0.0, ShiftedFactorisation::Woodbury).map(|s0| s0.solve(b.as_ref())),
+        })
+        .unwrap_or_default()
     } else {
         Vec::new()
     };
-    let eig = problem_eigenpairs(&problem, opts, ShiftedFactorisation::Woodbury)?;
+    let eig = solved_eigenpairs(&solve, opts)?;
     Ok(assemble(coords, hh, eig, &corrections, &statics, &coupling, part.k_hat_max))
 }
 

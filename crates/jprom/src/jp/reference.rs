@@ -56,16 +56,13 @@ pub fn reference_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> u12
 }
 
 /// Estimated bytes of one pattern with `r` active coordinates on the reference: the static
-/// condensation's `n x r` solves and `r`-square LU, `S` and the shifted capacitance with its LU
-/// (`3 (2 H r)^2`), the gathered `Y_h,a` (`H n r`).
+/// condensation's `n x r` solves and `r`-square LU, the shifted capacitance factorised in its
+/// place (`(2 H r)^2`; `S` is applied by its factors, never formed), the gathered `Y_h,a`
+/// (`H n r`).
 pub fn active_pattern_working_set_bytes(n: usize, r: usize, harmonics: usize) -> u128 {
     use crate::memory::{bytes_of, product};
     let s = product(&[2 * harmonics, r]);
-    bytes_of::<f64>(
-        product(&[harmonics + 2, n, r])
-            .saturating_add(product(&[3, r, r]))
-            .saturating_add(s.saturating_mul(s).saturating_mul(3)),
-    )
+    bytes_of::<f64>(product(&[harmonics + 2, n, r]).saturating_add(product(&[3, r, r])).saturating_add(s.saturating_mul(s)))
 }
 
 impl ReferenceFactors {
@@ -164,10 +161,18 @@ impl ReferenceFactors {
             let b = if h == 0 { a_ref.clone() } else { &a_ref - faer::Scale(shift * (h * h) as f64) * &coords.mass };
             let f = DenseLu::new(&b);
             let yh = f.solve(&e);
-            // the solve must be accurate for the Woodbury corrections to be
-            let r = product(b.as_ref(), yh.as_ref()) - &e;
+            // the solve must be accurate for the Woodbury corrections to be: its residual on
+            // fixed combinations of the columns (`linalg::lu::probes`) (B (Y v) - E v), not the n x n_w product
+            let probes = crate::linalg::lu::probes(nw);
+            let yv = product(yh.as_ref(), probes.as_ref());
+            let mut r = product(b.as_ref(), yv.as_ref());
+            for j in 0..probes.ncols() {
+                for i in 0..nw {
+                    r[(i, j)] -= probes[(i, j)];
+                }
+            }
             let finite = (0..nw).all(|j| (0..n).all(|i| yh[(i, j)].is_finite()));
-            if !finite || r.norm_l2() > 1e-9 * (b.norm_l2() * yh.norm_l2() + (nw as f64).sqrt()) {
+            if !finite || r.norm_l2() > 1e-9 * (b.norm_l2() * yv.norm_l2() + probes.norm_l2()) {
                 return Err(JpError::singular(what));
             }
             lu.push(f);
@@ -351,6 +356,19 @@ impl ActivePart {
             for col in 0..x.ncols() {
                 for i in 0..c.dim {
                     out[(c.start + i, col)] = (0..c.dim).map(|j| self.entry(c, k, l, i, j) * x[(c.start + j, col)]).sum();
+                }
+            }
+        }
+        out
+    }
+
+    /// `|D_kl| x` (entrywise absolute values of `D_kl`; `x` with `r` rows).
+    pub fn abs_block_times(&self, k: usize, l: usize, x: faer::MatRef<'_, f64>) -> Mat<f64> {
+        let mut out = Mat::<f64>::zeros(self.len(), x.ncols());
+        for c in &self.contacts {
+            for col in 0..x.ncols() {
+                for i in 0..c.dim {
+                    out[(c.start + i, col)] = (0..c.dim).map(|j| self.entry(c, k, l, i, j).abs() * x[(c.start + j, col)]).sum();
                 }
             }
         }

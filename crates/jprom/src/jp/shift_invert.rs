@@ -42,6 +42,7 @@ use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use crate::linalg::gmres::{gmres, GmresOptions};
 use crate::linalg::DenseLu;
 use faer::matrix_free::LinOp;
 use faer::{c64, Mat, MatMut, MatRef, Par};
@@ -89,7 +90,8 @@ pub struct CondensedProblem<'a> {
     base: &'a Mat<f64>,
     /// The contact coordinates `S` acts on (indices into `w`).
     rows: Vec<usize>,
-    /// `S`, `2 H r` square (coefficient blocks `1..=2H`, `r = rows.len()`).
+    /// `S`, `2 H r` square (coefficient blocks `1..=2H`, `r = rows.len()`); empty on a
+    /// reference, where `factors` give it.
     s: Mat<f64>,
     /// The reference whose factorisations the shifted solves use.
     reference: Option<&'a ReferenceFactors>,
@@ -131,6 +133,28 @@ impl ActiveCondensation<'_> {
         out
     }
 
+    /// A bound of `|S| x` (`x >= 0`, `2 H r x k`): `sum_j |D_ij| x_j + |D_i0| |g_aa| |D_0j| x_j`
+    /// (the rounding scale of `S x`).
+    fn abs_times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let r = self.part.len();
+        let nj = x.nrows() / r.max(1);
+        let k = x.ncols();
+        let mut v = Mat::<f64>::zeros(r, k);
+        for cj in 1..=nj {
+            v += self.part.abs_block_times(0, cj, x.submatrix((cj - 1) * r, 0, r, k));
+        }
+        let t = abs_product(self.g_aa, v.as_ref());
+        let mut out = Mat::<f64>::zeros(nj * r, k);
+        for ci in 1..=nj {
+            let mut oi = out.as_mut().submatrix_mut((ci - 1) * r, 0, r, k);
+            for cj in 1..=nj {
+                oi += self.part.abs_block_times(ci, cj, x.submatrix((cj - 1) * r, 0, r, k));
+            }
+            oi += self.part.abs_block_times(ci, 0, t.as_ref());
+        }
+        out
+    }
+
     /// The column block `cj` (`1..=2H`) of `S`, times `x` (`r x k`): `2 H r x k`.
     fn column_block_times(&self, cj: usize, nj: usize, x: MatRef<'_, f64>) -> Mat<f64> {
         let r = self.part.len();
@@ -168,7 +192,9 @@ impl<'a> CondensedProblem<'a> {
     /// The condensed problem of the pattern `part` on `reference`: `K_b = A_ref`,
     /// `S = ΔS_ij = D_ij - D_i0 g_aa D_0j` on the active coordinates.
     pub fn on_reference(coords: &'a ContactCoordinates, reference: &'a ReferenceFactors, part: &'a ActivePart, g_aa: &'a Mat<f64>) -> Self {
-        let s = super::reference::active_condensation(part, g_aa);
+        // S is applied by its factors; the dense 2Hr-square S is formed only for
+        // `dense_shifted` (tests)
+        let s = Mat::<f64>::zeros(0, 0);
         let factors = Some(ActiveCondensation { part, g_aa });
         CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), s, reference: Some(reference), factors }
     }
@@ -186,21 +212,23 @@ impl<'a> CondensedProblem<'a> {
         2 * self.harmonics * self.coords.n_dof
     }
 
-    /// `out = (K_JC - shift M_JC) x` (structured, `O(H n^2 + (H n_w)^2)` per column).
+    /// `out = (K_JC - shift M_JC) x` (structured, `O(H n^2 + (H n_w)^2)` per column; the
+    /// coefficient blocks of all columns side by side, so each model-sized matrix is read once).
     pub fn apply_shifted(&self, x: MatRef<'_, f64>, shift: f64) -> Mat<f64> {
         let n = self.coords.n_dof;
         let nj = 2 * self.harmonics;
         let k = x.ncols();
-        let mut out = Mat::<f64>::zeros(nj * n, k);
-        for c in 0..nj {
-            let h = (c / 2 + 1) as f64;
-            let xc = x.submatrix(c * n, 0, n, k);
-            let mut oc = out.as_mut().submatrix_mut(c * n, 0, n, k);
-            faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Replace, self.base.as_ref(), xc, 1.0, par());
-            if shift != 0.0 {
-                faer::linalg::matmul::matmul(oc.as_mut(), faer::Accum::Add, self.coords.mass.as_ref(), xc, -shift * h * h, par());
+        let xs = side_by_side(x, n, nj);
+        let mut ys = crate::linalg::product(self.base.as_ref(), xs.as_ref());
+        if shift != 0.0 {
+            let ms = crate::linalg::product(self.coords.mass.as_ref(), xs.as_ref());
+            for c in 0..nj {
+                let h = (c / 2 + 1) as f64;
+                let mut yc = ys.as_mut().subcols_mut(c * k, k);
+                yc -= faer::Scale(shift * h * h) * ms.as_ref().subcols(c * k, k);
             }
         }
+        let mut out = stacked(ys.as_ref(), n, nj);
         let r = self.rows.len();
         let ex = gather(x, n, &self.rows, nj);
         let sex = self.s_times(ex.as_ref());
@@ -214,40 +242,46 @@ impl<'a> CondensedProblem<'a> {
         out
     }
 
-    /// `(| |K_JC| |v| |, | |M_JC| |v| |)` for a complex `v` (the rounding scale of the products).
-    fn abs_products(&self, v: &[c64]) -> (f64, f64) {
+    /// `(| |K_JC| |v| |, | |M_JC| |v| |)` for complex vectors `v` (the rounding scale of the
+    /// products), all from one pass over the model-sized matrices.
+    fn abs_products(&self, vs: &[&[c64]]) -> Vec<(f64, f64)> {
         let n = self.coords.n_dof;
         let r = self.rows.len();
         let nj = 2 * self.harmonics;
-        let a: Vec<f64> = v.iter().map(|z| z.re.hypot(z.im)).collect();
-        // |A| x without forming |A| (these are model-sized matrices).
-        let abs_times = |m: &Mat<f64>, x: &[f64], out: &mut [f64]| {
-            for (j, &xj) in x.iter().enumerate() {
-                if xj != 0.0 {
-                    for (o, mij) in out.iter_mut().zip(m.col(j).iter()) {
-                        *o += mij.abs() * xj;
+        let m = vs.len();
+        // |v| with the coefficient blocks side by side: column c m + p
+        let a = Mat::from_fn(n, nj * m, |i, col| {
+            let z = vs[col % m][(col / m) * n + i];
+            z.re.hypot(z.im)
+        });
+        let mut ka = abs_product(self.base, a.as_ref());
+        let ma = abs_product(&self.coords.mass, a.as_ref());
+        if r > 0 {
+            // |S| |E v| (coefficient blocks stacked), added on the active rows
+            let aw = Mat::from_fn(nj * r, m, |q, p| a[(self.rows[q % r], (q / r) * m + p)]);
+            let sa = match &self.factors {
+                Some(f) => f.abs_times(aw.as_ref()),
+                None => abs_product(&self.s, aw.as_ref()),
+            };
+            for c in 0..nj {
+                for p in 0..m {
+                    for (q, &i) in self.rows.iter().enumerate() {
+                        ka[(i, c * m + p)] += sa[(c * r + q, p)];
                     }
                 }
             }
-        };
-        let aw: Vec<f64> = (0..nj * r).map(|q| a[(q / r) * n + self.rows[q % r]]).collect();
-        let mut sa = vec![0.0; nj * r];
-        abs_times(&self.s, &aw, &mut sa);
-        let (mut k2, mut m2) = (0.0, 0.0);
-        for c in 0..nj {
-            let h = (c / 2 + 1) as f64;
-            let ac = &a[c * n..(c + 1) * n];
-            let mut kc = vec![0.0; n];
-            abs_times(self.base, ac, &mut kc);
-            for (q, &i) in self.rows.iter().enumerate() {
-                kc[i] += sa[c * r + q];
-            }
-            let mut mc = vec![0.0; n];
-            abs_times(&self.coords.mass, ac, &mut mc);
-            k2 += kc.iter().map(|x| x * x).sum::<f64>();
-            m2 += h.powi(4) * mc.iter().map(|x| x * x).sum::<f64>();
         }
-        (k2.sqrt(), m2.sqrt())
+        (0..m)
+            .map(|p| {
+                let (mut k2, mut m2) = (0.0, 0.0);
+                for c in 0..nj {
+                    let h = (c / 2 + 1) as f64;
+                    k2 += ka.col(c * m + p).squared_norm_l2();
+                    m2 += h.powi(4) * ma.col(c * m + p).squared_norm_l2();
+                }
+                (k2.sqrt(), m2.sqrt())
+            })
+            .collect()
     }
 
     /// `M_JC x`.
@@ -255,13 +289,13 @@ impl<'a> CondensedProblem<'a> {
         let n = self.coords.n_dof;
         let nj = 2 * self.harmonics;
         let k = x.ncols();
-        let mut out = Mat::<f64>::zeros(nj * n, k);
+        let mut ys = crate::linalg::product(self.coords.mass.as_ref(), side_by_side(x, n, nj).as_ref());
         for c in 0..nj {
             let h = (c / 2 + 1) as f64;
-            let oc = out.as_mut().submatrix_mut(c * n, 0, n, k);
-            faer::linalg::matmul::matmul(oc, faer::Accum::Replace, self.coords.mass.as_ref(), x.submatrix(c * n, 0, n, k), h * h, par());
+            let mut yc = ys.as_mut().subcols_mut(c * k, k);
+            yc *= faer::Scale(h * h);
         }
-        out
+        stacked(ys.as_ref(), n, nj)
     }
 
     /// Dense `K_JC - shift M_JC` (for tests and the dense factorisation).
@@ -276,11 +310,15 @@ impl<'a> CondensedProblem<'a> {
             blk.copy_from(self.base);
             blk -= faer::Scale(shift * h * h) * &self.coords.mass;
         }
+        let s_dense = match &self.factors {
+            Some(f) => super::reference::active_condensation(f.part, f.g_aa),
+            None => self.s.clone(),
+        };
         for cj in 0..nj {
             for (b, &j) in self.rows.iter().enumerate() {
                 for ci in 0..nj {
                     for (q, &i) in self.rows.iter().enumerate() {
-                        a[(ci * n + i, cj * n + j)] += self.s[(ci * r + q, cj * r + b)];
+                        a[(ci * n + i, cj * n + j)] += s_dense[(ci * r + q, cj * r + b)];
                     }
                 }
             }
@@ -293,6 +331,37 @@ impl<'a> CondensedProblem<'a> {
 fn gather(x: MatRef<'_, f64>, n: usize, rows: &[usize], nj: usize) -> Mat<f64> {
     let r = rows.len();
     Mat::from_fn(nj * r, x.ncols(), |q, j| x[((q / r) * n + rows[q % r], j)])
+}
+
+/// The `nj` coefficient blocks (`n` rows each) of `x` side by side: `n x (nj k)`, block `c`
+/// in columns `c k..(c + 1) k`.
+fn side_by_side(x: MatRef<'_, f64>, n: usize, nj: usize) -> Mat<f64> {
+    let k = x.ncols();
+    Mat::from_fn(n, nj * k, |i, col| x[((col / k) * n + i, col % k)])
+}
+
+/// The inverse of [`side_by_side`].
+fn stacked(y: MatRef<'_, f64>, n: usize, nj: usize) -> Mat<f64> {
+    let k = y.ncols() / nj.max(1);
+    Mat::from_fn(nj * n, k, |row, j| y[(row % n, (row / n) * k + j)])
+}
+
+/// `|m| x` (entrywise absolute values of `m`) by column panels of `|m|`, never all of it.
+fn abs_product(m: &Mat<f64>, x: MatRef<'_, f64>) -> Mat<f64> {
+    const PANEL: usize = 256;
+    let (nr, nc) = (m.nrows(), m.ncols());
+    let mut out = Mat::<f64>::zeros(nr, x.ncols());
+    let mut panel = Mat::<f64>::zeros(nr, PANEL.min(nc));
+    for j0 in (0..nc).step_by(PANEL) {
+        let w = PANEL.min(nc - j0);
+        for j in 0..w {
+            for (p, v) in panel.col_mut(j).iter_mut().zip(m.col(j0 + j).iter()) {
+                *p = v.abs();
+            }
+        }
+        faer::linalg::matmul::matmul(out.as_mut(), faer::Accum::Add, panel.as_ref().subcols(0, w), x.subrows(j0, w), 1.0, par());
+    }
+    out
 }
 
 /// The LUs of the `B_h` of a Woodbury solve: its own, or a prediction reference's (index per
@@ -408,7 +477,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     let mut blk = cap.as_mut().submatrix_mut(0, cj * r, nj * r, r);
                     blk += &sr;
                 }
-                Factors::Woodbury { b, y, cap: DenseLu::new(&cap) }
+                Factors::Woodbury { b, y, cap: DenseLu::from_matrix(cap) }
             }
         };
         let solve = ShiftedSolve { problem, shift, factors };
@@ -429,6 +498,35 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
     /// The shift `σ`.
     pub fn shift(&self) -> f64 {
         self.shift
+    }
+
+    /// `K_JC^-1 rhs` (the shift-0 solves of the static corrections) by GMRES on `K_JC`, right
+    /// preconditioned with this factorisation at the band's shift σ (docs/formulation.md
+    /// §8.10): `K_JC (K_JC - σ M_JC)^-1 = I + σ M_JC (K_JC - σ M_JC)^-1` has the eigenvalues
+    /// `λ / (λ - σ)`, clustered at 1 but for the few modes near and below the band, so a few
+    /// dozen solves on the factorisation at hand replace a second one at shift 0. `None` when a
+    /// column does not reach [`UNSHIFTED_ACCEPT`] (the caller then factorises at 0).
+    pub fn solve_unshifted(&self, rhs: MatRef<'_, f64>) -> Option<Mat<f64>> {
+        let solve = self;
+        let dim = solve.problem.dim();
+        if solve.shift == 0.0 {
+            return Some(solve.solve(rhs));
+        }
+        let col = |v: &[f64]| Mat::from_fn(dim, 1, |i, _| v[i]);
+        let a = |v: &[f64]| solve.problem.apply_shifted(col(v).as_ref(), 0.0).col(0).iter().copied().collect::<Vec<f64>>();
+        let m_inv = |v: &[f64]| solve.solve(col(v).as_ref()).col(0).iter().copied().collect::<Vec<f64>>();
+        let mut out = Mat::<f64>::zeros(dim, rhs.ncols());
+        for j in 0..rhs.ncols() {
+            let b: Vec<f64> = rhs.col(j).iter().copied().collect();
+            let found = gmres(&a, &m_inv, &b, &UNSHIFTED_GMRES);
+            if !(found.residual <= UNSHIFTED_ACCEPT) {
+                return None;
+            }
+            for (i, x) in found.x.into_iter().enumerate() {
+                out[(i, j)] = x;
+            }
+        }
+        Some(out)
     }
 
     /// `(K_JC - σ M_JC)^-1 rhs`.
@@ -457,16 +555,28 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                 // u = (I + S R)^-1 S E_r x0; x = x0 - B^-1 E_r^T u.
                 let sex = self.problem.s_times(gather(x.as_ref(), n, &self.problem.rows, nj).as_ref());
                 let u = cap.solve(&sex);
-                for c in 0..nj {
-                    let corr = &y[c / 2] * u.as_ref().submatrix(c * r, 0, r, k);
-                    let mut xc = x.as_mut().submatrix_mut(c * n, 0, n, k);
-                    xc -= &corr;
+                // the cos and sin blocks of a harmonic in one product with its Y_h
+                for hi in 0..nj / 2 {
+                    let both = Mat::from_fn(r, 2 * k, |q, j| u[((2 * hi + j / k) * r + q, j % k)]);
+                    let corr = &y[hi] * &both;
+                    for half in 0..2 {
+                        let mut xc = x.as_mut().submatrix_mut((2 * hi + half) * n, 0, n, k);
+                        xc -= corr.as_ref().subcols(half * k, k);
+                    }
                 }
                 x
             }
         }
     }
 }
+
+/// GMRES settings of [`unshifted_solve`]: it aims at `1e-13 |b|` and stops at the rounding
+/// floor; a column is accepted at a true residual of [`UNSHIFTED_ACCEPT`] `|b|`.
+const UNSHIFTED_GMRES: GmresOptions = GmresOptions { tolerance: 1e-13, restart: 100, max_iterations: 300 };
+
+/// Largest relative residual `|b - K_JC x| / |b|` at which [`unshifted_solve`] accepts a column.
+pub const UNSHIFTED_ACCEPT: f64 = 1e-11;
+
 
 /// The shift-invert operator `scale (K_JC - σ M_JC)^-1 M_JC`.
 #[derive(Debug)]
@@ -518,33 +628,41 @@ fn normalised(v: Vec<c64>) -> Vec<c64> {
     v.into_iter().map(|z| c64::new(z.re / s, z.im / s)).collect()
 }
 
-/// Relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)`, and the same quantity
-/// with the rounding floor of the products, `u (| |K_JC| |v| | + |λ| | |M_JC| |v| |)` (`u` the unit
-/// round-off times `sqrt(n)`), in the denominator: on stiff models (`|K| >> λ |M|` on the
-/// contact coordinates) the computed residual of even an exact eigenvector is at that floor.
-fn residuals(problem: &CondensedProblem<'_>, p: &Pair) -> (f64, f64) {
-    let dim = p.v.len();
-    let v = Mat::from_fn(dim, 2, |i, j| if j == 0 { p.v[i].re } else { p.v[i].im });
+/// Relative residuals `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v|)` of the pairs
+/// `(λ, v)`, and with `floor` the same quantities with the rounding floor of the products,
+/// `u (| |K_JC| |v| | + |λ| | |M_JC| |v| |)` (`u` the unit round-off times `sqrt(n)`), in the
+/// denominator: on stiff models (`|K| >> λ |M|` on the contact coordinates) the computed
+/// residual of even an exact eigenvector is at that floor. All pairs share one product with
+/// the model-sized matrices (read once, not once per pair).
+fn residuals(problem: &CondensedProblem<'_>, pairs: &[(c64, &[c64])], floor: bool) -> Vec<(f64, f64)> {
+    let Some(dim) = pairs.first().map(|p| p.1.len()) else {
+        return Vec::new();
+    };
+    let v = Mat::from_fn(dim, 2 * pairs.len(), |i, j| if j % 2 == 0 { pairs[j / 2].1[i].re } else { pairs[j / 2].1[i].im });
     let kv = problem.apply_shifted(v.as_ref(), 0.0);
     let mv = problem.apply_mass(v.as_ref());
-    let (lr, li) = (p.lambda.re, p.lambda.im);
-    let mut r2 = 0.0;
-    for i in 0..dim {
-        // (kr + i ki) - (lr + i li)(mr + i mi)
-        let rr = kv[(i, 0)] - (lr * mv[(i, 0)] - li * mv[(i, 1)]);
-        let ri = kv[(i, 1)] - (lr * mv[(i, 1)] + li * mv[(i, 0)]);
-        r2 += rr * rr + ri * ri;
-    }
-    let lam = (lr * lr + li * li).sqrt();
-    let den = kv.norm_l2() + lam * mv.norm_l2();
-    let (ka, ma) = problem.abs_products(&p.v);
-    let floor = f64::EPSILON * (problem.coords.n_dof as f64).sqrt() * (ka + lam * ma);
-    (r2.sqrt() / den.max(f64::MIN_POSITIVE), r2.sqrt() / (den + floor).max(f64::MIN_POSITIVE))
-}
-
-/// Relative residual of (31) (see [`residuals`]), without the rounding floor.
-fn residual(problem: &CondensedProblem<'_>, p: &Pair) -> f64 {
-    residuals(problem, p).0
+    let abs = if floor { Some(problem.abs_products(&pairs.iter().map(|p| p.1).collect::<Vec<_>>())) } else { None };
+    pairs
+        .iter()
+        .enumerate()
+        .map(|(p, &(lambda, _))| {
+            let (c0, c1) = (2 * p, 2 * p + 1);
+            let (lr, li) = (lambda.re, lambda.im);
+            let (mut r2, mut k2, mut m2) = (0.0, 0.0, 0.0);
+            for i in 0..dim {
+                // (kr + i ki) - (lr + i li)(mr + i mi)
+                let rr = kv[(i, c0)] - (lr * mv[(i, c0)] - li * mv[(i, c1)]);
+                let ri = kv[(i, c1)] - (lr * mv[(i, c1)] + li * mv[(i, c0)]);
+                r2 += rr * rr + ri * ri;
+                k2 += kv[(i, c0)] * kv[(i, c0)] + kv[(i, c1)] * kv[(i, c1)];
+                m2 += mv[(i, c0)] * mv[(i, c0)] + mv[(i, c1)] * mv[(i, c1)];
+            }
+            let lam = (lr * lr + li * li).sqrt();
+            let den = k2.sqrt() + lam * m2.sqrt();
+            let fl = abs.as_ref().map_or(0.0, |a| f64::EPSILON * (problem.coords.n_dof as f64).sqrt() * (a[p].0 + lam * a[p].1));
+            (r2.sqrt() / den.max(f64::MIN_POSITIVE), r2.sqrt() / (den + fl).max(f64::MIN_POSITIVE))
+        })
+        .collect()
 }
 
 /// Residual of `v` against the span of `basis` (complex, orthonormal) relative to `|v|`.
@@ -669,9 +787,7 @@ fn complete(problem: &CondensedProblem<'_>, pairs: &mut Vec<Pair>) {
     }
     pairs.extend(added);
     // Time-shift partners.
-    let mut i = 0;
-    while i < pairs.len() {
-        let p = &pairs[i];
+    let partner = |p: &Pair| {
         let mut jv = vec![c64::new(0.0, 0.0); p.v.len()];
         for c in (0..nj).step_by(2) {
             for r in 0..n {
@@ -679,10 +795,24 @@ fn complete(problem: &CondensedProblem<'_>, pairs: &mut Vec<Pair>) {
                 jv[(c + 1) * n + r] = p.v[c * n + r];
             }
         }
-        let cand = Pair { lambda: p.lambda, v: jv };
+        Pair { lambda: p.lambda, v: jv }
+    };
+    // the residuals of the pairs found and of their partners, in one product
+    let partners: Vec<Pair> = pairs.iter().map(partner).collect();
+    let both: Vec<(c64, &[c64])> = pairs.iter().zip(&partners).flat_map(|(p, c)| [(p.lambda, p.v.as_slice()), (c.lambda, c.v.as_slice())]).collect();
+    let found: Vec<f64> = residuals(problem, &both, false).into_iter().map(|r| r.0).collect();
+    let mut i = 0;
+    while i < pairs.len() {
+        let p = &pairs[i];
+        let (res_v, res_cand, cand) = if i < partners.len() {
+            (found[2 * i], found[2 * i + 1], partners[i].clone())
+        } else {
+            let cand = partner(p);
+            let r = residuals(problem, &[(p.lambda, p.v.as_slice()), (cand.lambda, cand.v.as_slice())], false);
+            (r[0].0, r[1].0, cand)
+        };
         // J commutes with (31) exactly when the partner is as good an eigenvector as `v`.
-        let res_v = residual(problem, p);
-        if residual(problem, &cand) <= (2.0 * res_v).max(1e-9) {
+        if res_cand <= (2.0 * res_v).max(1e-9) {
             // Orthonormal basis of the found eigenvectors of this eigenvalue.
             let mut basis: Vec<Vec<c64>> = Vec::new();
             for q in pairs.iter().filter(|q| close(q.lambda, cand.lambda)) {
@@ -752,11 +882,30 @@ pub fn shift_invert_eigenpairs_upto(coords: &ContactCoordinates, k_hat: &Contact
 }
 
 fn problem_eigenpairs_upto(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation, max_request: usize) -> Result<Option<Eigenpairs>> {
+    let solve = ShiftedSolve::new(problem, problem_shift(problem, opts), how)?;
+    solved_eigenpairs_upto(&solve, opts, max_request)
+}
+
+/// The shift of the eigen solve of `problem`: its reference's, else the square of the band
+/// centre.
+pub(crate) fn problem_shift(problem: &CondensedProblem<'_>, opts: &ModeOptions) -> f64 {
+    let centre = 0.5 * (opts.band.0 + opts.band.1);
+    problem.reference.map_or(centre * centre, |r| r.shift())
+}
+
+/// [`problem_eigenpairs`] on a factorisation made at [`problem_shift`].
+///
+/// # Errors
+/// As [`shift_invert_eigenpairs`].
+pub(crate) fn solved_eigenpairs(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions) -> Result<Eigenpairs> {
+    solved_eigenpairs_upto(solve, opts, solve.problem.dim())?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
+}
+
+fn solved_eigenpairs_upto(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions, max_request: usize) -> Result<Option<Eigenpairs>> {
+    let problem = solve.problem;
     let (lo, hi) = opts.band;
     let dim = problem.dim();
-    let centre = 0.5 * (lo + hi);
-    let sigma = problem.reference.map_or(centre * centre, |r| r.shift());
-    let solve = ShiftedSolve::new(problem, sigma, how)?;
+    let sigma = solve.shift;
 
     // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
     // tolerance is relative.
@@ -844,9 +993,11 @@ fn problem_eigenpairs_upto(problem: &CondensedProblem<'_>, opts: &ModeOptions, h
     let mut v_re = Mat::<f64>::zeros(dim, m);
     let mut v_im = Mat::<f64>::zeros(dim, m);
     let mut eigenvalues = Vec::with_capacity(m);
+    let kept: Vec<(c64, &[c64])> = keep.iter().map(|&j| (pairs[j].lambda, pairs[j].v.as_slice())).collect();
+    let res_kept = residuals(problem, &kept, true);
     for (col, &j) in keep.iter().enumerate() {
         let p = &pairs[j];
-        let (raw, res) = residuals(problem, p);
+        let (raw, res) = res_kept[col];
         if res.is_nan() || res >= RESIDUAL_TOLERANCE {
             return Err(JpError::Eigen {
                 what: format!("shift-invert eigenpair lambda = {:.6e}{:+.3e}i of (31): relative residual {raw:.2e} ({res:.2e} with the rounding floor)", p.lambda.re, p.lambda.im),

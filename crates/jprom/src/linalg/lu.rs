@@ -59,6 +59,20 @@ impl<T: Pivot> DenseLu<T> {
         lu
     }
 
+    /// [`Self::new`] in place of `a`, which it takes (no copy: the capacitance matrices of the
+    /// JP prediction are the largest dense matrices it makes).
+    ///
+    /// # Panics
+    /// If `a` is not square.
+    pub fn from_matrix(a: Mat<T>) -> Self {
+        let n = a.nrows();
+        assert_eq!(a.ncols(), n, "DenseLu needs a square matrix");
+        let mut lu = DenseLu { lu: a, perm: vec![0; n], perm_inv: vec![0; n] };
+        let mut mem = MemBuffer::new(Self::scratch(n, 0));
+        lu.factor_in_place(MemStack::new(&mut mem));
+        lu
+    }
+
     /// An `n x n` workspace: write the matrix with [`Self::matrix_mut`], then
     /// [`Self::factor_in_place`] (how [`super::MatrixLu`] refactorises without allocating).
     pub(crate) fn zeros(n: usize) -> Self {
@@ -186,7 +200,10 @@ pub fn lu_solve(lu: &DenseLu<f64>, b: &[f64]) -> Vec<f64> {
 
 /// Solves `a x = b` (several right-hand sides) by LU and checks the solution instead of the
 /// pivots: the relative residual `|a x - b| / (|a| |x| + |b|)` must be below `1e-8`, so a
-/// badly scaled but solvable system passes and a singular one does not.
+/// badly scaled but solvable system passes and a singular one does not. With more than
+/// [`PROBES`] right-hand sides the residual is taken of [`PROBES`] fixed combinations of the
+/// columns (`a (x v) - b v`), which costs `O(n^2)` per probe instead of the product `a x`,
+/// as much as the solve itself.
 ///
 /// # Errors
 /// [`JpError::SingularMatrix`] naming `what`.
@@ -199,12 +216,26 @@ pub fn solve_checked(what: &str, a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>>
     if !finite {
         return Err(JpError::singular(what));
     }
-    let r = product(a.as_ref(), x.as_ref()) - b;
-    let scale = a.norm_l2() * x.norm_l2() + b.norm_l2();
+    let (r, scale) = if b.ncols() <= PROBES {
+        (product(a.as_ref(), x.as_ref()) - b, a.norm_l2() * x.norm_l2() + b.norm_l2())
+    } else {
+        let v = probes(b.ncols());
+        let (xv, bv) = (product(x.as_ref(), v.as_ref()), product(b.as_ref(), v.as_ref()));
+        (product(a.as_ref(), xv.as_ref()) - &bv, a.norm_l2() * xv.norm_l2() + bv.norm_l2())
+    };
     if r.norm_l2() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
         return Err(JpError::singular(what));
     }
     Ok(x)
+}
+
+/// Number of column combinations [`solve_checked`] checks when there are more columns.
+pub const PROBES: usize = 3;
+
+/// `k x PROBES` fixed combinations with entries of mixed sign and size (`1..j + 2`), so that
+/// no column's error cancels out of all of them.
+pub(crate) fn probes(k: usize) -> Mat<f64> {
+    Mat::from_fn(k, PROBES, |i, j| if (i * (j + 3) + j) % 5 < 2 { -1.0 } else { 1.0 } * (1.0 + (i % (j + 2)) as f64))
 }
 
 /// The error of a matrix whose column `j` is zero.
@@ -226,4 +257,39 @@ pub fn mat_vec(a: &Mat<f64>, v: &[f64]) -> Vec<f64> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `solve_checked` with few and with many right-hand sides (the probed residual): a
+    /// solvable system passes with the LU's solution, a singular one (two equal rows) and one
+    /// whose solution is garbage in a single column are refused.
+    #[test]
+    fn solve_checked_refuses_singular_systems_with_few_and_many_columns() {
+        let n = 40;
+        let a = Mat::from_fn(n, n, |i, j| if i == j { 5.0 + i as f64 } else { ((i * 7 + j * 3) % 5) as f64 * 0.1 });
+        for k in [1, PROBES, PROBES + 1, 50] {
+            let b = Mat::from_fn(n, k, |i, j| 1.0 + ((i + 2 * j) % 9) as f64);
+            let x = solve_checked("a", &a, &b).unwrap();
+            assert!((product(a.as_ref(), x.as_ref()) - &b).norm_l2() < 1e-12 * b.norm_l2());
+            let mut s = a.clone();
+            for j in 0..n {
+                s[(1, j)] = s[(0, j)];
+            }
+            let err = solve_checked("the singular matrix", &s, &b).unwrap_err();
+            assert!(err.to_string().contains("the singular matrix"), "{err}");
+        }
+        // the probes see an error in any one column
+        let b = Mat::from_fn(n, 50, |i, j| 1.0 + ((i + 2 * j) % 9) as f64);
+        let x = DenseLu::new(&a).solve(&b);
+        let v = probes(50);
+        for bad in [0, 17, 49] {
+            let mut y = x.clone();
+            y[(3, bad)] += 1e-3;
+            let r = product(a.as_ref(), product(y.as_ref(), v.as_ref()).as_ref()) - product(b.as_ref(), v.as_ref());
+            assert!(r.norm_l2() > 1e-3, "column {bad}: {}", r.norm_l2());
+        }
+    }
 }

@@ -1,8 +1,9 @@
 //! Linear algebra shared by the numerical modules: checked dense LU ([`lu`]), sparse matrices
 //! ([`sparse`]), a matrix dense or sparse with one checked LU for both ([`matrix`]), dense
-//! eigen solvers ([`eigen`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
+//! eigen solvers ([`eigen`]), restarted GMRES ([`gmres`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
 
 pub mod eigen;
+pub mod gmres;
 pub mod lanczos;
 pub mod lu;
 pub mod matrix;
