@@ -55,14 +55,16 @@ pub fn reference_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> u12
     bytes_of::<f64>(product(&[n, n]).saturating_add(per_h.saturating_mul(harmonics as u128 + 1)))
 }
 
-/// Estimated bytes of one pattern with `r` active coordinates on the reference: the static
-/// condensation's `n x r` solves and `r`-square LU, the shifted capacitance factorised in its
-/// place (`(2 H r)^2`; `S` is applied by its factors, never formed), the gathered `Y_h,a`
-/// (`H n r`).
-pub fn active_pattern_working_set_bytes(n: usize, r: usize, harmonics: usize) -> u128 {
+/// Estimated bytes of one pattern with `r` active coordinates, `r_l` of them leading
+/// ([`ActivePart::lead`]), on the reference: the static condensation's `n x r` solves and
+/// `r`-square blocks, the gathered `Y_h,l` (`H n r_l`), `g_aa E_l^T` (`r r_l`) and the shifted
+/// capacitance factorised in its place (`(2 H r_l)^2`; `S` is applied by its factors, never
+/// formed).
+pub fn active_pattern_working_set_bytes(n: usize, r: usize, r_lead: usize, harmonics: usize) -> u128 {
     use crate::memory::{bytes_of, product};
-    let s = product(&[2 * harmonics, r]);
-    bytes_of::<f64>(product(&[harmonics + 2, n, r]).saturating_add(product(&[3, r, r])).saturating_add(s.saturating_mul(s)))
+    let s = product(&[2 * harmonics, r_lead]);
+    let vectors = product(&[2, n, r]).saturating_add(product(&[harmonics, n, r_lead]));
+    bytes_of::<f64>(vectors.saturating_add(product(&[3, r, r])).saturating_add(product(&[r, r_lead])).saturating_add(s.saturating_mul(s)))
 }
 
 impl ReferenceFactors {
@@ -254,7 +256,7 @@ impl ReferenceFactors {
             return Err(JpError::bad_size("contact blocks of the pattern (against its reference)", self.blocks.len(), coords.laws.len()));
         }
         let nc = 2 * self.harmonics + 1;
-        let mut part = ActivePart { harmonics: self.harmonics, rows: Vec::new(), contacts: Vec::new(), static_offset, k_hat_max };
+        let mut part = ActivePart { harmonics: self.harmonics, rows: Vec::new(), lead: Vec::new(), contacts: Vec::new(), static_offset, k_hat_max };
         for (ci, (law, &off)) in coords.laws.iter().zip(&coords.offsets).enumerate() {
             let d = law.dim();
             let m = nc * d;
@@ -271,9 +273,25 @@ impl ReferenceFactors {
                     delta[row + col * m] = v;
                 }
             }
-            if big > ACTIVE_TOLERANCE * scale.max(f64::MIN_POSITIVE) {
+            let tolerance = ACTIVE_TOLERANCE * scale.max(f64::MIN_POSITIVE);
+            if big > tolerance {
                 let start = part.rows.len();
                 part.rows.extend(off..off + d);
+                // the rows of D that differ: a slipping contact that stays closed keeps its
+                // normal row (`k_n` on every coefficient); rows within the tolerance are zeroed
+                for i in 0..d {
+                    let rows_of_i = (0..nc).map(|k| k * d + i);
+                    let row_big = rows_of_i.clone().flat_map(|row| (0..m).map(move |col| row + col * m)).fold(0.0f64, |a, idx| a.max(delta[idx].abs()));
+                    if row_big > tolerance {
+                        part.lead.push(start + i);
+                    } else {
+                        for row in rows_of_i {
+                            for col in 0..m {
+                                delta[row + col * m] = 0.0;
+                            }
+                        }
+                    }
+                }
                 part.contacts.push(ActiveContact { start, dim: d, delta });
             }
         }
@@ -314,6 +332,10 @@ pub struct ActivePart {
     pub k_hat_max: f64,
     /// The contact coordinates (indices into `w`) of the active contacts, in order.
     pub rows: Vec<usize>,
+    /// The *leading* active coordinates: positions in `rows` where a row of `D` differs
+    /// from zero (`r_l` of them). `D = E_l^T D_l`, so the Woodbury capacitances are `r_l`
+    /// and `2 H r_l` square.
+    pub lead: Vec<usize>,
     contacts: Vec<ActiveContact>,
 }
 
@@ -419,18 +441,20 @@ pub fn active_statics(coords: &ContactCoordinates, reference: &ReferenceFactors,
     let (n, nw) = (coords.n_dof, coords.n_w);
     let r = part.len();
     let z = reference.y_columns(0, &part.rows); // A_ref^-1 E_a^T
-    let a0_inv_e = if r == 0 {
+    let lead = &part.lead;
+    let a0_inv_e = if lead.is_empty() {
         z
     } else {
-        // X (I + D_00 G_aa) = Z  <=>  (I + D_00 G_aa)^T X^T = Z^T
+        // D_00 = E_l^T D_l (its leading rows): A_0^-1 E_a^T = Z - Z_l C^-1 (D_00 G_aa)_l,
+        // C = I + (D_00 G_aa)_ll, r_l square
         let g = reference.y_block(0, &part.rows);
-        let mut m0 = part.block_times(0, 0, g.as_ref());
-        for i in 0..r {
-            m0[(i, i)] += 1.0;
-        }
-        let mt = m0.transpose().to_owned();
-        let xt = super::lu_solve("K + K̂_00 (static condensation (28), on the reference)", &mt, &z.transpose().to_owned())?;
-        xt.transpose().to_owned()
+        let dg = part.block_times(0, 0, g.as_ref());
+        let rl = lead.len();
+        let c = Mat::from_fn(rl, rl, |i, j| dg[(lead[i], lead[j])] + if i == j { 1.0 } else { 0.0 });
+        let dg_l = Mat::from_fn(rl, r, |i, j| dg[(lead[i], j)]);
+        let w = super::lu_solve("K + K̂_00 (static condensation (28), on the reference)", &c, &dg_l)?;
+        let z_l = Mat::from_fn(n, rl, |i, j| z[(i, lead[j])]);
+        z - product(z_l.as_ref(), w.as_ref())
     };
     let g_aa = Mat::from_fn(r, r, |i, j| a0_inv_e[(part.rows[i], j)]);
     // A_0^-1 b = A_ref^-1 b - (A_0^-1 E_a^T) D_00 E_a A_ref^-1 b for b = f_E^0 and [g; 0]

@@ -90,6 +90,10 @@ pub struct CondensedProblem<'a> {
     base: &'a Mat<f64>,
     /// The contact coordinates `S` acts on (indices into `w`).
     rows: Vec<usize>,
+    /// The positions in `rows` of the rows of `S` that may differ from zero (`r_l` of them;
+    /// all of `rows` but on a reference, [`ActivePart::lead`]): `S = E_l^T S_l`, so the
+    /// Woodbury capacitance is `2 H r_l` square.
+    lead: Vec<usize>,
     /// `S`, `2 H r` square (coefficient blocks `1..=2H`, `r = rows.len()`); empty on a
     /// reference, where `factors` give it.
     s: Mat<f64>,
@@ -155,16 +159,31 @@ impl ActiveCondensation<'_> {
         out
     }
 
-    /// The column block `cj` (`1..=2H`) of `S`, times `x` (`r x k`): `2 H r x k`.
-    fn column_block_times(&self, cj: usize, nj: usize, x: MatRef<'_, f64>) -> Mat<f64> {
-        let r = self.part.len();
+    /// `g_aa E_l^T` (`r x r_l`): the columns of `g_aa` that `D_0j` reaches.
+    fn g_lead(&self) -> Mat<f64> {
+        let lead = &self.part.lead;
+        Mat::from_fn(self.part.len(), lead.len(), |i, j| self.g_aa[(i, lead[j])])
+    }
+
+    /// The leading rows of the column block `cj` (`1..=2H`) of `S`, times `x` (`r x k`):
+    /// `2 H r_l x k`. `g_lead` is [`ActiveCondensation::g_lead`]; `D_0j x` lives on the
+    /// leading rows, so the dense product is `r x r_l` by `r_l x k`.
+    fn lead_column_block_times(&self, g_lead: &Mat<f64>, cj: usize, nj: usize, x: MatRef<'_, f64>) -> Mat<f64> {
+        let lead = &self.part.lead;
+        let rl = lead.len();
         let k = x.ncols();
-        let t = self.g_aa * self.part.block_times(0, cj, x);
-        let mut out = Mat::<f64>::zeros(nj * r, k);
+        let v = self.part.block_times(0, cj, x);
+        let v_l = Mat::from_fn(rl, k, |i, j| v[(lead[i], j)]);
+        let t = crate::linalg::product(g_lead.as_ref(), v_l.as_ref());
+        let mut out = Mat::<f64>::zeros(nj * rl, k);
         for ci in 1..=nj {
-            let mut oi = out.as_mut().submatrix_mut((ci - 1) * r, 0, r, k);
-            oi += self.part.block_times(ci, cj, x);
-            oi -= self.part.block_times(ci, 0, t.as_ref());
+            let mut full = self.part.block_times(ci, cj, x);
+            full -= self.part.block_times(ci, 0, t.as_ref());
+            for j in 0..k {
+                for (q, &i) in lead.iter().enumerate() {
+                    out[((ci - 1) * rl + q, j)] = full[(i, j)];
+                }
+            }
         }
         out
     }
@@ -186,7 +205,7 @@ impl<'a> CondensedProblem<'a> {
             return Err(JpError::bad_size("static condensation block g_ww", nw, g_ww.nrows()));
         }
         let s = super::condensed::contact_condensation(coords, k_hat, g_ww);
-        Ok(CondensedProblem { coords, harmonics: hh, base: &coords.stiffness, rows: (0..nw).collect(), s, reference: None, factors: None })
+        Ok(CondensedProblem { coords, harmonics: hh, base: &coords.stiffness, rows: (0..nw).collect(), lead: (0..nw).collect(), s, reference: None, factors: None })
     }
 
     /// The condensed problem of the pattern `part` on `reference`: `K_b = A_ref`,
@@ -196,7 +215,7 @@ impl<'a> CondensedProblem<'a> {
         // `dense_shifted` (tests)
         let s = Mat::<f64>::zeros(0, 0);
         let factors = Some(ActiveCondensation { part, g_aa });
-        CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), s, reference: Some(reference), factors }
+        CondensedProblem { coords, harmonics: reference.harmonics(), base: reference.a_ref(), rows: part.rows.clone(), lead: part.lead.clone(), s, reference: Some(reference), factors }
     }
 
     /// `S X` (`X` of `2 H r` rows), by the factors of `S` where the problem has them.
@@ -388,9 +407,9 @@ enum Factors<'a> {
     Woodbury {
         /// LU of `B_h = K_b - σ h^2 M`, `h = 1..=H`.
         b: HarmonicLus<'a>,
-        /// `B_h^-1 E_r^T` (`n x r`), `h = 1..=H`.
+        /// `B_h^-1 E_l^T` (`n x r_l`, the leading coordinates), `h = 1..=H`.
         y: Vec<Mat<f64>>,
-        /// LU of `I + S R` (`2 H r` square).
+        /// LU of `I + S_l R` (`2 H r_l` square).
         cap: DenseLu<f64>,
     },
 }
@@ -415,13 +434,14 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
     pub fn new(problem: &'p CondensedProblem<'a>, shift: f64, how: ShiftedFactorisation) -> Result<Self> {
         let n = problem.coords.n_dof;
         let r = problem.rows.len();
+        let rl = problem.lead.len();
         let hh = problem.harmonics;
         let nf = |x: usize| x as f64;
         let how = match (how, problem.reference) {
             (_, Some(_)) => ShiftedFactorisation::Woodbury,
             (ShiftedFactorisation::Auto, None) => {
                 let dense = nf(2 * hh * n).powi(3) * 2.0 / 3.0;
-                let wood = nf(hh) * nf(n).powi(3) * 2.0 / 3.0 + nf(hh) * 2.0 * nf(n).powi(2) * nf(r) + nf(2 * hh * r).powi(3) * 2.0 / 3.0;
+                let wood = nf(hh) * nf(n).powi(3) * 2.0 / 3.0 + nf(hh) * 2.0 * nf(n).powi(2) * nf(rl) + nf(2 * hh * rl).powi(3) * 2.0 / 3.0;
                 if wood < dense {
                     match Self::new(problem, shift, ShiftedFactorisation::Woodbury) {
                         Ok(s) => return Ok(s),
@@ -436,6 +456,8 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
         let factors = match how {
             ShiftedFactorisation::Dense => Factors::Dense(DenseLu::new(&problem.dense_shifted(shift))),
             _ => {
+                // the coordinates of the leading rows of S
+                let lead_rows: Vec<usize> = problem.lead.iter().map(|&q| problem.rows[q]).collect();
                 let (b, y) = match problem.reference {
                     Some(reference) => {
                         let idx: Vec<usize> = if shift == reference.shift() {
@@ -445,12 +467,12 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         } else {
                             return Err(JpError::invalid("shift", format!("a problem on a reference is solved at its shift {} or at 0, not {shift}", reference.shift())));
                         };
-                        let y = idx.iter().map(|&h| reference.y_columns(h, &problem.rows)).collect();
+                        let y = idx.iter().map(|&h| reference.y_columns(h, &lead_rows)).collect();
                         (HarmonicLus::Shared(reference, idx), y)
                     }
                     None => {
-                        let mut e = Mat::<f64>::zeros(n, r);
-                        for (q, &i) in problem.rows.iter().enumerate() {
+                        let mut e = Mat::<f64>::zeros(n, rl);
+                        for (q, &i) in lead_rows.iter().enumerate() {
                             e[(i, q)] = 1.0;
                         }
                         let mut lus = Vec::with_capacity(hh);
@@ -465,18 +487,23 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     }
                 };
                 let nj = 2 * hh;
-                // I + S R, R = blockdiag_c(E_r B_h(c)^-1 E_r^T).
-                let mut cap = Mat::<f64>::identity(nj * r, nj * r);
+                // I + S_l R, R = blockdiag_c(E_r B_h(c)^-1 E_l^T), S = E_l^T S_l (its leading rows).
+                let g_lead = problem.factors.as_ref().map(|f| f.g_lead());
+                let mut cap = Mat::<f64>::identity(nj * rl, nj * rl);
                 for cj in 0..nj {
                     let yc: &Mat<f64> = &y[cj / 2];
-                    let rr = Mat::from_fn(r, r, |q, j| yc[(problem.rows[q], j)]);
-                    let sr = match &problem.factors {
-                        Some(f) => f.column_block_times(cj + 1, nj, rr.as_ref()),
-                        None => problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr,
+                    let rr = Mat::from_fn(r, rl, |q, j| yc[(problem.rows[q], j)]);
+                    let sr = match (&problem.factors, &g_lead) {
+                        (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
+                        _ => {
+                            let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
+                            Mat::from_fn(nj * rl, rl, |q, j| full[((q / rl) * r + problem.lead[q % rl], j)])
+                        }
                     };
-                    let mut blk = cap.as_mut().submatrix_mut(0, cj * r, nj * r, r);
+                    let mut blk = cap.as_mut().submatrix_mut(0, cj * rl, nj * rl, rl);
                     blk += &sr;
                 }
+                drop(g_lead);
                 Factors::Woodbury { b, y, cap: DenseLu::from_matrix(cap) }
             }
         };
@@ -533,6 +560,8 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
     pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
         let n = self.problem.coords.n_dof;
         let r = self.problem.rows.len();
+        let lead = &self.problem.lead;
+        let rl = lead.len();
         let nj = 2 * self.problem.harmonics;
         let k = rhs.ncols();
         match &self.factors {
@@ -549,15 +578,16 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         }
                     }
                 }
-                if r == 0 {
+                if rl == 0 {
                     return x;
                 }
-                // u = (I + S R)^-1 S E_r x0; x = x0 - B^-1 E_r^T u.
+                // u = (I + S_l R)^-1 S_l E_r x0; x = x0 - B^-1 E_l^T u.
                 let sex = self.problem.s_times(gather(x.as_ref(), n, &self.problem.rows, nj).as_ref());
-                let u = cap.solve(&sex);
+                let sex_l = Mat::from_fn(nj * rl, k, |q, j| sex[((q / rl) * r + lead[q % rl], j)]);
+                let u = cap.solve(&sex_l);
                 // the cos and sin blocks of a harmonic in one product with its Y_h
                 for hi in 0..nj / 2 {
-                    let both = Mat::from_fn(r, 2 * k, |q, j| u[((2 * hi + j / k) * r + q, j % k)]);
+                    let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
                     let corr = &y[hi] * &both;
                     for half in 0..2 {
                         let mut xc = x.as_mut().submatrix_mut((2 * hi + half) * n, 0, n, k);
