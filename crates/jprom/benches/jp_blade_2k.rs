@@ -60,6 +60,18 @@
 //! before; FR 0.076 and NLR 0.081 s/point at 1,922 contacts, 0.010 at 242; estimate of the
 //! prediction 6,157 -> 4,029 MB, peak RSS 6,774 -> 5,755 MB. Growth exponent from 242 to 1,922
 //! contacts: basis 2.5, FR per point 1.0.
+//! Then the Woodbury updates of a pattern take only the rows of `D` that differ from zero (a
+//! contact that slips but stays closed keeps its normal row; docs/formulation.md §8.10): the
+//! fully active patterns' capacitances are `2H r_l` square with `r_l` 4,192 and 4,608 instead
+//! of 5,766: basis 292.3 -> 209.7 to 220.8 s over three runs (per pattern 5 to 41 s: statics
+//! up to 12 s, capacitance product 10 to 15 s, its LU 4 to 6 s, Arnoldi 5 to 10 s; the
+//! reference 20 s), 1.8 -> 1.4 s at 242 contacts, estimate 4,029 -> 3,803 MB; sizes, e*_1 and
+//! resonances unchanged. H = 3 at 1,922 contacts (`JPROM_2K_H=3`, a compile ran beside it for
+//! 2 minutes): basis 1,126.5 s, sizes [46, 13, 25, 18], estimate 10,755 MB, peak RSS 12.9 GB;
+//! the reference 42 s, patterns 12 s (6 active) to 356 s (fully active, `r_l` 4,608:
+//! capacitance 27,648 square, its product 85 s, LU 211 s, Arnoldi 48 s; measured before the
+//! `D` blocks were applied on contiguous columns); FR 0.33 s/point; the NLR
+//! model is refused by the memory budget (the condensed system at H = 3 needs 26 GB).
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
@@ -239,23 +251,35 @@ fn main() {
     let t = Instant::now();
     let fr_sweep = sweep(&fr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("FR sweep");
     let t_fr = stage(&format!("FR sweep: {} points", fr_sweep.points.len()), t) / fr_sweep.points.len().max(1) as f64;
+    // NLR condenses onto all (2H + 1) n_w contact coordinates: at H = 3 on 1,922 contacts the
+    // memory budget refuses it (26 GB), and the row says so
     let t = Instant::now();
-    let cond = CondensedSystem::new(&model, h).unwrap();
-    let nlr = NlrRom::new(&cond, &basis).unwrap();
-    let t_nlr_build = stage("NLR model", t);
+    let cond = match CondensedSystem::new(&model, h) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            stage(&format!("NLR refused: {e}"), t);
+            None
+        }
+    };
+    let nlr = cond.as_ref().map(|c| NlrRom::new(c, &basis).unwrap());
+    let t_nlr_build = if nlr.is_some() { stage("NLR model", t) } else { f64::NAN };
     let t = Instant::now();
-    let nlr_sweep = sweep(&nlr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("NLR sweep");
-    let t_nlr = stage(&format!("NLR sweep: {} points", nlr_sweep.points.len()), t) / nlr_sweep.points.len().max(1) as f64;
+    let nlr_sweep = nlr.as_ref().map(|nlr| sweep(nlr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("NLR sweep"));
+    let t_nlr = nlr_sweep.as_ref().map_or(f64::NAN, |s| stage(&format!("NLR sweep: {} points", s.points.len()), t) / s.points.len().max(1) as f64);
 
     // e*_1 of each ROM at its own resonance (no full-order solution at this size).
     let peak = |pts: &[jprom::hbm::PointSolution]| pts.iter().max_by(|a, b| tip_amplitude(a).total_cmp(&tip_amplitude(b))).cloned().unwrap();
-    let (pf, pn) = (peak(&fr_sweep.points), peak(&nlr_sweep.points));
+    let pf = peak(&fr_sweep.points);
     let es_fr = predicted_error(&fr, pf.omega, &pf.z).map(|e| e[1]).unwrap_or(f64::NAN);
-    let es_nlr = predicted_error(&nlr, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
-    let nlr_vs_fr = {
-        let (a, b) = (tip(&pf.outputs, pf.n_outputs, 1), tip(&pn.outputs, pn.n_outputs, 1));
-        let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
-        d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
+    let (es_nlr, nlr_vs_fr) = match (&nlr, &nlr_sweep) {
+        (Some(nlr), Some(s)) => {
+            let pn = peak(&s.points);
+            let es = predicted_error(nlr, pn.omega, &pn.z).map(|e| e[1]).unwrap_or(f64::NAN);
+            let (a, b) = (tip(&pf.outputs, pf.n_outputs, 1), tip(&pn.outputs, pn.n_outputs, 1));
+            let d: f64 = a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+            (es, d / b.iter().map(|y| y * y).sum::<f64>().sqrt())
+        }
+        _ => (f64::NAN, f64::NAN),
     };
     let row = format!(
         "| {n_contacts} | {n_fe} | {} | {h} | {t_fe:.1} | {t_cb:.1} | {rss_cb:.0} | {t_setup:.1} | {t_basis:.1} | {pattern_mb:.0} | {n_samples} / {} | {:?} | {t_fr_build:.1} | {t_fr:.3} | {t_nlr_build:.1} | {t_nlr:.3} | {es_fr:.1e} | {es_nlr:.1e} | {nlr_vs_fr:.1e} | {:.0} (basis stage {rss_basis:.0}) |",
@@ -265,6 +289,10 @@ fn main() {
         vm_hwm_mb(),
     );
     save_table(refinement, h, &row);
+    let Some((cond, nlr, pn)) = cond.zip(nlr).zip(nlr_sweep.map(|s| peak(&s.points))).map(|((c, n), p)| (c, n, p)) else {
+        println!("(resonance {:.2} Hz FR; no NLR)", pf.omega / (2.0 * PI));
+        return;
+    };
     println!("(resonance {:.2} Hz FR, {:.2} Hz NLR)", pf.omega / (2.0 * PI), pn.omega / (2.0 * PI));
 
     // One full-order point (condensed, dense Jacobian) at the NLR resonance, from the NLR

@@ -373,25 +373,48 @@ impl ActivePart {
 
     /// `D_kl x` (`x` with `r` rows).
     pub fn block_times(&self, k: usize, l: usize, x: faer::MatRef<'_, f64>) -> Mat<f64> {
-        let mut out = Mat::<f64>::zeros(self.len(), x.ncols());
-        for c in &self.contacts {
-            for col in 0..x.ncols() {
-                for i in 0..c.dim {
-                    out[(c.start + i, col)] = (0..c.dim).map(|j| self.entry(c, k, l, i, j) * x[(c.start + j, col)]).sum();
-                }
-            }
-        }
-        out
+        self.blocks_times(k, l, x, |v| v)
     }
 
     /// `|D_kl| x` (entrywise absolute values of `D_kl`; `x` with `r` rows).
     pub fn abs_block_times(&self, k: usize, l: usize, x: faer::MatRef<'_, f64>) -> Mat<f64> {
-        let mut out = Mat::<f64>::zeros(self.len(), x.ncols());
+        self.blocks_times(k, l, x, f64::abs)
+    }
+
+    /// `f(D_kl) x`, `f` applied entrywise: the `d x d` blocks of `D_kl` gathered once, then
+    /// each column of `x` block by block on contiguous slices.
+    fn blocks_times(&self, k: usize, l: usize, x: faer::MatRef<'_, f64>, f: impl Fn(f64) -> f64) -> Mat<f64> {
+        let mut blocks = Vec::with_capacity(self.contacts.iter().map(|c| c.dim * c.dim).sum());
         for c in &self.contacts {
-            for col in 0..x.ncols() {
+            for j in 0..c.dim {
                 for i in 0..c.dim {
-                    out[(c.start + i, col)] = (0..c.dim).map(|j| self.entry(c, k, l, i, j).abs() * x[(c.start + j, col)]).sum();
+                    blocks.push(f(self.entry(c, k, l, i, j)));
                 }
+            }
+        }
+        let mut out = Mat::<f64>::zeros(self.len(), x.ncols());
+        let mut buffer = Vec::new();
+        for col in 0..x.ncols() {
+            // the column as a slice (copied only when its rows are strided)
+            let xc: &[f64] = match x.col(col).try_as_col_major() {
+                Some(c) => c.as_slice(),
+                None => {
+                    buffer.clear();
+                    buffer.extend(x.col(col).iter().copied());
+                    &buffer
+                }
+            };
+            let oc = out.col_as_slice_mut(col);
+            let mut b = 0;
+            for c in &self.contacts {
+                let (s, d) = (c.start, c.dim);
+                for j in 0..d {
+                    let xj = xc[s + j];
+                    for i in 0..d {
+                        oc[s + i] += blocks[b + i + j * d] * xj;
+                    }
+                }
+                b += d * d;
             }
         }
         out
