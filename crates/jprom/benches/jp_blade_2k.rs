@@ -19,7 +19,9 @@
 //! (estimate 6.2 GB); FR 0.19 s/point, NLR 0.16 s/point (measured at 9b502b9, whose columns
 //! (33) were weighted per eigenspace: sizes [21, 8], e*_1 0.039; the factorisations, which make
 //! the basis time, are today's). Refinement 5, H = 3, today: basis 19.3 s (was 44.8 s), sizes
-//! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB.
+//! [47, 12, 27, 19], 6 to 726 of 726 coordinates active, estimate 1.0 GB, peak 1.37 GB; on
+//! 2026-12-04's slower machine, after the changes below: 7.2 s, the same sizes, estimate
+//! 317 MB, peak 452 MB.
 //! With the Craig-Bampton's sparse-dense products by a gather kernel (`spmm_t`, the same bits
 //! as faer's product), the dependencies without debug assertions, and each block's solve split
 //! among the threads (the same bits as faer's solve; the reduced matrices hash the same with
@@ -71,7 +73,10 @@
 //! the reference 42 s, patterns 12 s (6 active) to 356 s (fully active, `r_l` 4,608:
 //! capacitance 27,648 square, its product 85 s, LU 211 s, Arnoldi 48 s; measured before the
 //! `D` blocks were applied on contiguous columns); FR 0.33 s/point; the NLR
-//! model is refused by the memory budget (the condensed system at H = 3 needs 26 GB).
+//! model is refused by the memory budget (the condensed system at H = 3 needs 26 GB). A second
+//! run after that change: basis 1,219.7 s, the same sizes and peak, FR 0.387 s/point, e*_1
+//! 0.051, resonance 2146.95 Hz; its stuck-mode and FR stages were 17 to 24 % slower than the
+//! first run's on the same binary-independent work (a busier machine).
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
