@@ -175,17 +175,14 @@ impl ActiveCondensation<'_> {
         let v = self.part.block_times(0, cj, x);
         let v_l = Mat::from_fn(rl, k, |i, j| v[(lead[i], j)]);
         let t = crate::linalg::product(g_lead.as_ref(), v_l.as_ref());
-        let mut out = Mat::<f64>::zeros(nj * rl, k);
+        let r = self.part.len();
+        let mut full = Mat::<f64>::zeros(nj * r, k);
         for ci in 1..=nj {
-            let mut full = self.part.block_times(ci, cj, x);
-            full -= self.part.block_times(ci, 0, t.as_ref());
-            for j in 0..k {
-                for (q, &i) in lead.iter().enumerate() {
-                    out[((ci - 1) * rl + q, j)] = full[(i, j)];
-                }
-            }
+            let mut oi = full.as_mut().submatrix_mut((ci - 1) * r, 0, r, k);
+            oi += self.part.block_times(ci, cj, x);
+            oi -= self.part.block_times(ci, 0, t.as_ref());
         }
-        out
+        leading_rows(full.as_ref(), r, lead, nj)
     }
 }
 
@@ -352,6 +349,13 @@ fn gather(x: MatRef<'_, f64>, n: usize, rows: &[usize], nj: usize) -> Mat<f64> {
     Mat::from_fn(nj * r, x.ncols(), |q, j| x[((q / r) * n + rows[q % r], j)])
 }
 
+/// `E_l y`: the leading rows `lead` (positions among the `r` rows of a block) of every one of
+/// the `nj` coefficient blocks of `y` (`nj r` rows).
+fn leading_rows(y: MatRef<'_, f64>, r: usize, lead: &[usize], nj: usize) -> Mat<f64> {
+    let rl = lead.len();
+    Mat::from_fn(nj * rl, y.ncols(), |q, j| y[((q / rl) * r + lead[q % rl], j)])
+}
+
 /// The `nj` coefficient blocks (`n` rows each) of `x` side by side: `n x (nj k)`, block `c`
 /// in columns `c k..(c + 1) k`.
 fn side_by_side(x: MatRef<'_, f64>, n: usize, nj: usize) -> Mat<f64> {
@@ -497,7 +501,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
                         _ => {
                             let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
-                            Mat::from_fn(nj * rl, rl, |q, j| full[((q / rl) * r + problem.lead[q % rl], j)])
+                            leading_rows(full.as_ref(), r, &problem.lead, nj)
                         }
                     };
                     let mut blk = cap.as_mut().submatrix_mut(0, cj * rl, nj * rl, rl);
@@ -583,7 +587,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                 }
                 // u = (I + S_l R)^-1 S_l E_r x0; x = x0 - B^-1 E_l^T u.
                 let sex = self.problem.s_times(gather(x.as_ref(), n, &self.problem.rows, nj).as_ref());
-                let sex_l = Mat::from_fn(nj * rl, k, |q, j| sex[((q / rl) * r + lead[q % rl], j)]);
+                let sex_l = leading_rows(sex.as_ref(), r, lead, nj);
                 let u = cap.solve(&sex_l);
                 // the cos and sin blocks of a harmonic in one product with its Y_h
                 for hi in 0..nj / 2 {
