@@ -179,7 +179,7 @@ pub(crate) fn modes_of_active_part(coords: &ContactCoordinates, part: &ActivePar
     let (n, hh) = (coords.n_dof, reference.harmonics());
     crate::memory::check(
         &format!("the JP modes of one contact pattern at H = {hh} on the prediction's reference (n = {n} DoFs, {} active contact coordinates)", part.len()),
-        active_pattern_working_set_bytes(n, part.len(), part.lead.len(), hh),
+        active_pattern_working_set_bytes(n, coords.n_w, part.len(), part.lead.len(), hh),
     )?;
     let st = active_statics(coords, reference, part)?;
     let statics = Statics { a0_inv_e: st.a0_inv_e.as_ref(), rows: &part.rows, x_force: st.x_force.clone(), x_offset: st.x_offset.clone() };

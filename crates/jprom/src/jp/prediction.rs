@@ -588,7 +588,7 @@ pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
     let modes: Vec<JpModes> = match &reference {
         Some(reference) => {
             let parts: Vec<ActivePart> = chosen.iter().map(|x| reference.active_part_of_forces(coords, &x.forces, &x.w)).collect::<Result<_>>()?;
-            let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, a.len(), a.lead.len(), hh)).max().unwrap_or(0);
+            let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, nw, a.len(), a.lead.len(), hh)).max().unwrap_or(0);
             let at_once = patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), opts.n_samples);
             estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
             active_coordinates = Some(parts.iter().map(ActivePart::len).collect());

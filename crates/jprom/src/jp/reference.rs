@@ -56,14 +56,18 @@ pub fn reference_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> u12
 }
 
 /// Estimated bytes of one pattern with `r` active coordinates, `r_l` of them leading
-/// ([`ActivePart::lead`]), on the reference: the static condensation's `n x r` solves and
-/// `r`-square blocks, the gathered `Y_h,l` (`H n r_l`), `g_aa E_l^T` (`r r_l`) and the shifted
-/// capacitance factorised in its place (`(2 H r_l)^2`; `S` is applied by its factors, never
-/// formed).
-pub fn active_pattern_working_set_bytes(n: usize, r: usize, r_lead: usize, harmonics: usize) -> u128 {
+/// ([`ActivePart::lead`]), on the reference of a model of `n` DoFs, `n_w` of them contact
+/// coordinates: the static condensation's `n x r` solves and `r`-square blocks, the gathered
+/// `Y_h,l` (`H n r_l`, only when `2 r_l < n_w`: otherwise the reference's `Y_h` are read in
+/// place), `g_aa E_l^T` (`r r_l`), the capacitance's column panels (`2 (2H + 1) r` by 512) and
+/// the shifted capacitance factorised in its place (`(2 H r_l)^2`; `S` is applied by its
+/// factors, never formed).
+pub fn active_pattern_working_set_bytes(n: usize, n_w: usize, r: usize, r_lead: usize, harmonics: usize) -> u128 {
     use crate::memory::{bytes_of, product};
     let s = product(&[2 * harmonics, r_lead]);
-    let vectors = product(&[2, n, r]).saturating_add(product(&[harmonics, n, r_lead]));
+    let lead_copies = if 2 * r_lead < n_w { product(&[harmonics, n, r_lead]) } else { 0 };
+    let panels = product(&[2 * (2 * harmonics + 1), r, 512]);
+    let vectors = product(&[2, n, r]).saturating_add(lead_copies).saturating_add(panels);
     bytes_of::<f64>(vectors.saturating_add(product(&[3, r, r])).saturating_add(product(&[r, r_lead])).saturating_add(s.saturating_mul(s)))
 }
 
@@ -201,6 +205,11 @@ impl ReferenceFactors {
     /// LU of `B_h` (`h = 0`: `A_ref`).
     pub(crate) fn lu(&self, h: usize) -> &DenseLu<f64> {
         &self.lu[h]
+    }
+
+    /// `Y_h = B_h^-1 E^T` (`n x n_w`).
+    pub(crate) fn y(&self, h: usize) -> &Mat<f64> {
+        &self.y[h]
     }
 
     /// `Y_h = B_h^-1 E^T` restricted to the columns `rows`.

@@ -56,6 +56,8 @@ pub const ARNOLDI_TOLERANCE: f64 = 1e-12;
 /// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v| + f)` of a
 /// kept eigenpair, `f` the rounding floor of the products (see `residuals`).
 pub const RESIDUAL_TOLERANCE: f64 = 1e-6;
+/// Columns of the Woodbury capacitance `I + S_l R` formed at a time ([`ShiftedSolve::new`]).
+const CAPACITANCE_PANEL: usize = 512;
 /// Eigenpairs requested at first; doubled until the band is covered.
 pub const INITIAL_REQUEST: usize = 16;
 /// Number of doublings of the request before giving up.
@@ -405,6 +407,43 @@ impl HarmonicLus<'_> {
     }
 }
 
+/// `Y_h,l = B_h^-1 E_l^T`, `h = 1..=H`: its own copies, or (most coordinates leading) the
+/// columns of the reference's `Y_h = B_h^-1 E^T`, read in place: on the fully active patterns
+/// of the 1,922-contact blade at H = 3 the copies were 645 MB.
+#[derive(Debug)]
+enum LeadColumns<'a> {
+    Own(Vec<Mat<f64>>),
+    /// The reference, its `Y` index per harmonic, and the leading coordinates (columns of `Y_h`).
+    Shared(&'a ReferenceFactors, Vec<usize>, Vec<usize>),
+}
+
+impl LeadColumns<'_> {
+    /// Entry `(i, j)` of `Y_h,l`, `h = hi + 1`.
+    fn entry(&self, hi: usize, i: usize, j: usize) -> f64 {
+        match self {
+            LeadColumns::Own(y) => y[hi][(i, j)],
+            LeadColumns::Shared(reference, idx, cols) => reference.y(idx[hi])[(i, cols[j])],
+        }
+    }
+
+    /// `Y_h,l u` (`u` with `r_l` rows), `h = hi + 1`.
+    fn times(&self, hi: usize, u: MatRef<'_, f64>) -> Mat<f64> {
+        match self {
+            LeadColumns::Own(y) => &y[hi] * u,
+            LeadColumns::Shared(reference, idx, cols) => {
+                let y = reference.y(idx[hi]);
+                let mut scattered = Mat::<f64>::zeros(y.ncols(), u.ncols());
+                for j in 0..u.ncols() {
+                    for (q, &c) in cols.iter().enumerate() {
+                        scattered[(c, j)] = u[(q, j)];
+                    }
+                }
+                crate::linalg::product(y.as_ref(), scattered.as_ref())
+            }
+        }
+    }
+}
+
 #[derive(Debug)]
 enum Factors<'a> {
     Dense(DenseLu<f64>),
@@ -412,7 +451,7 @@ enum Factors<'a> {
         /// LU of `B_h = K_b - σ h^2 M`, `h = 1..=H`.
         b: HarmonicLus<'a>,
         /// `B_h^-1 E_l^T` (`n x r_l`, the leading coordinates), `h = 1..=H`.
-        y: Vec<Mat<f64>>,
+        y: LeadColumns<'a>,
         /// LU of `I + S_l R` (`2 H r_l` square).
         cap: DenseLu<f64>,
     },
@@ -471,7 +510,13 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         } else {
                             return Err(JpError::invalid("shift", format!("a problem on a reference is solved at its shift {} or at 0, not {shift}", reference.shift())));
                         };
-                        let y = idx.iter().map(|&h| reference.y_columns(h, &lead_rows)).collect();
+                        // in place when copying would take more than half of Y_h (the product
+                        // with all of Y_h then costs at most twice the copy's)
+                        let y = if 2 * lead_rows.len() >= problem.coords.n_w {
+                            LeadColumns::Shared(reference, idx.clone(), lead_rows.clone())
+                        } else {
+                            LeadColumns::Own(idx.iter().map(|&h| reference.y_columns(h, &lead_rows)).collect())
+                        };
                         (HarmonicLus::Shared(reference, idx), y)
                     }
                     None => {
@@ -487,25 +532,31 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                             y.push(lu.solve(&e));
                             lus.push(lu);
                         }
-                        (HarmonicLus::Own(lus), y)
+                        (HarmonicLus::Own(lus), LeadColumns::Own(y))
                     }
                 };
                 let nj = 2 * hh;
                 // I + S_l R, R = blockdiag_c(E_r B_h(c)^-1 E_l^T), S = E_l^T S_l (its leading rows).
+                // Column panels of at most CAPACITANCE_PANEL columns: the temporaries (`R`'s
+                // panel, `S R`'s and the products inside) stay small beside the capacitance
+                // (at H = 3 whole column blocks took 3 GB beside its 6 GB on the 1,922-contact
+                // blade).
                 let g_lead = problem.factors.as_ref().map(|f| f.g_lead());
                 let mut cap = Mat::<f64>::identity(nj * rl, nj * rl);
                 for cj in 0..nj {
-                    let yc: &Mat<f64> = &y[cj / 2];
-                    let rr = Mat::from_fn(r, rl, |q, j| yc[(problem.rows[q], j)]);
-                    let sr = match (&problem.factors, &g_lead) {
-                        (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
-                        _ => {
-                            let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
-                            leading_rows(full.as_ref(), r, &problem.lead, nj)
-                        }
-                    };
-                    let mut blk = cap.as_mut().submatrix_mut(0, cj * rl, nj * rl, rl);
-                    blk += &sr;
+                    for p0 in (0..rl).step_by(CAPACITANCE_PANEL) {
+                        let w = CAPACITANCE_PANEL.min(rl - p0);
+                        let rr = Mat::from_fn(r, w, |q, j| y.entry(cj / 2, problem.rows[q], p0 + j));
+                        let sr = match (&problem.factors, &g_lead) {
+                            (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
+                            _ => {
+                                let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
+                                leading_rows(full.as_ref(), r, &problem.lead, nj)
+                            }
+                        };
+                        let mut blk = cap.as_mut().submatrix_mut(0, cj * rl + p0, nj * rl, w);
+                        blk += &sr;
+                    }
                 }
                 drop(g_lead);
                 Factors::Woodbury { b, y, cap: DenseLu::from_matrix(cap) }
@@ -592,7 +643,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                 // the cos and sin blocks of a harmonic in one product with its Y_h
                 for hi in 0..nj / 2 {
                     let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
-                    let corr = &y[hi] * &both;
+                    let corr = y.times(hi, both.as_ref());
                     for half in 0..2 {
                         let mut xc = x.as_mut().submatrix_mut((2 * hi + half) * n, 0, n, k);
                         xc -= corr.as_ref().subcols(half * k, k);
