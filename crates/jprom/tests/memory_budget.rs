@@ -10,7 +10,7 @@ use jprom::io::matrix_market::parse_matrix_market;
 use jprom::jp::{jp_modes, predict_basis, ContactJacobian, ModeOptions, PredictionOptions};
 use jprom::memory::human_bytes;
 use jprom::model::ContactCoordinates;
-use jprom::jp::prediction::{patterns_at_once, PatternFactorisation};
+use jprom::jp::prediction::{patterns_at_once, reference_patterns_at_once, PatternFactorisation};
 use jprom_testkit::chain::{chain_model, linear_modes, stuck_stiffness_physical, ChainOptions};
 use jprom::memory::MemoryBudget;
 use jprom::JpError;
@@ -103,6 +103,10 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     assert_eq!(patterns_at_once(one, usize::MAX, 100), rayon::current_num_threads().min(100));
     assert_eq!(patterns_at_once(one, usize::MAX, 1), 1);
     assert_eq!(patterns_at_once(600_000_000, usize::MAX, 100), 1, "large patterns are solved one at a time");
+    // on a shared reference patterns of any size run side by side while they fit
+    assert_eq!(reference_patterns_at_once(600_000_000, usize::MAX, 100), rayon::current_num_threads().min(100));
+    assert_eq!(reference_patterns_at_once(600_000_000, 900_000_000, 100), 1, "one and a half patterns fit: one at a time");
+    assert_eq!(reference_patterns_at_once(600_000_000, usize::MAX, 1), 1);
     let (freqs, _) = linear_modes(&stuck_stiffness_physical(&chain), &chain.mass);
     let chain_band = (0.9 * freqs[0], 1.1 * freqs[0]);
     let mut popts = PredictionOptions::new(chain_band);

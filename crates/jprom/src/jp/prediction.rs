@@ -34,7 +34,6 @@ use crate::error::{JpError, Result};
 use crate::linalg::norm2;
 use crate::model::ContactCoordinates;
 use faer::Mat;
-use rayon::prelude::*;
 use super::modes::pattern_working_set_bytes;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -55,20 +54,54 @@ pub fn patterns_at_once(per_pattern_bytes: u128, budget_bytes: usize, n_samples:
     rayon::current_num_threads().min(n_samples).min(fit).max(1)
 }
 
+/// How many contact patterns [`predict_basis`] solves at once on a shared reference: as many
+/// as threads, patterns and the memory budget allow, whatever a pattern's size. A pattern there
+/// mixes dense products and factorisations (parallel inside, near the processor's peak) with
+/// work that leaves a thread waiting (the Arnoldi iteration's one-vector solves, gathers of
+/// rows, the per-contact `D` blocks), which a second pattern beside it fills.
+pub fn reference_patterns_at_once(per_pattern_bytes: u128, budget_bytes: usize, n_patterns: usize) -> usize {
+    if per_pattern_bytes == 0 {
+        return 1;
+    }
+    let fit = usize::try_from(budget_bytes as u128 / per_pattern_bytes).unwrap_or(usize::MAX).max(1);
+    rayon::current_num_threads().min(n_patterns).min(fit).max(1)
+}
+
 /// `f` of every item, `at_once` at a time (in parallel, on a pool of that many threads when
-/// fewer than rayon's).
-fn in_parallel<T: Sync>(at_once: usize, items: &[T], f: impl Fn(&T) -> Result<JpModes> + Sync + Send) -> Result<Vec<JpModes>> {
+/// fewer than rayon's), the items taken in the order `order` (a permutation of their indices:
+/// the costliest first, so that the last to finish is a small one); the results in the items'
+/// order, the first error by that order if any.
+fn in_parallel<T: Sync>(at_once: usize, items: &[T], order: &[usize], f: impl Fn(&T) -> Result<JpModes> + Sync + Send) -> Result<Vec<JpModes>> {
     if at_once <= 1 || items.len() <= 1 {
-        items.iter().map(f).collect()
-    } else if at_once >= rayon::current_num_threads() {
-        items.par_iter().map(f).collect()
+        return items.iter().map(f).collect();
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let slots: Vec<std::sync::Mutex<Option<Result<JpModes>>>> = items.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let work = || {
+        rayon::scope(|s| {
+            for _ in 0..at_once {
+                s.spawn(|_| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(&i) = order.get(k) else { break };
+                    let out = f(&items[i]);
+                    *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(out);
+                });
+            }
+        })
+    };
+    if at_once >= rayon::current_num_threads() {
+        work();
     } else {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(at_once)
             .build()
             .map_err(|e| JpError::invalid("JP prediction", format!("could not start {at_once} threads: {e}")))?;
-        pool.install(|| items.par_iter().map(f).collect())
+        pool.install(work);
     }
+    slots
+        .into_iter()
+        .map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()).unwrap_or_else(|| Err(JpError::invalid("JP prediction", "a contact pattern was not solved"))))
+        .collect()
 }
 
 /// `p̂_max` of a given generating shape when the caller gives none: sample up to 125 % of it.
@@ -589,11 +622,14 @@ pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
         Some(reference) => {
             let parts: Vec<ActivePart> = chosen.iter().map(|x| reference.active_part_of_forces(coords, &x.forces, &x.w)).collect::<Result<_>>()?;
             let per_pattern = parts.iter().map(|a| active_pattern_working_set_bytes(n, nw, a.len(), a.lead.len(), hh)).max().unwrap_or(0);
-            let at_once = patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), opts.n_samples);
+            let at_once = reference_patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), parts.len());
             estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
             active_coordinates = Some(parts.iter().map(ActivePart::len).collect());
             let modes_of = |part: &ActivePart| modes_of_active_part(coords, part, &opts.modes, reference);
-            in_parallel(at_once, &parts, modes_of)?
+            // the costliest first: the capacitance's factorisation grows as r_l^3
+            let mut order: Vec<usize> = (0..parts.len()).collect();
+            order.sort_by_key(|&i| std::cmp::Reverse((parts[i].lead.len(), parts[i].len())));
+            in_parallel(at_once, &parts, &order, modes_of)?
         }
         None => {
             // the patterns' dense matrices, as many at once as run in parallel
@@ -604,7 +640,8 @@ pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
                 let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &x.forces, &x.w)?;
                 jp_modes(coords, &kj, &opts.modes)
             };
-            in_parallel(at_once, &chosen, modes_of)?
+            let order: Vec<usize> = (0..chosen.len()).collect();
+            in_parallel(at_once, &chosen, &order, modes_of)?
         }
     };
     let predicted = PredictedModes { modes, slipping_patterns, n_w: nw, band: opts.modes.band };
