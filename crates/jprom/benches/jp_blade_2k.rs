@@ -77,6 +77,19 @@
 //! run after that change: basis 1,219.7 s, the same sizes and peak, FR 0.387 s/point, e*_1
 //! 0.051, resonance 2146.95 Hz; its stuck-mode and FR stages were 17 to 24 % slower than the
 //! first run's on the same binary-independent work (a busier machine).
+//! Later on 2026-12-04 (a fresh machine of the same kind; its Craig-Bampton 167.6 s), the
+//! capacitance formed by column panels of 512 columns and the reference's `Y_h` read in place
+//! for patterns whose leading coordinates are at least half of `w`: H = 1 basis 186.8 s (peak
+//! 5,152 MB, the Craig-Bampton's), H = 3 basis 911.0 s at 10,759 MB peak (estimate 10,439 MB;
+//! were 1,127-1,220 s and 12.9 GB: whole column blocks had taken about 3 GB of temporaries beside
+//! the 6 GB capacitance), FR 0.279 s/point, e*_1 0.051, resonance 2146.95 Hz, the same sizes
+//! [46, 13, 25, 18]. Then the patterns on the reference solved two at a time, the costliest
+//! first: H = 1 basis 163.2 s, estimate 6,100 MB, peak 6,487 MB, sizes [32, 10], e*_1 0.040,
+//! resonances 2146.90 / 2146.69 Hz as before; refinement 5: 1.0 s (H = 1), 5.2 s, estimate 378 MB,
+//! peak 431 MB (H = 3). One full-order point at the NLR resonance (`JPROM_2K_FO=1`): 163.6 s
+//! (3 iterations, 12.0 GB peak), actual e_1 2.4e-3 for both ROMs, tip X1 error 3.1e-4. The whole
+//! H = 1 study (CB 167.6 + basis 163.2 + FR model 1.1 + sweep 20.2 s = 352 s) is 93 times
+//! faster than 200 such points. Exponents from 242 to 1,922 contacts: basis 2.5, FR per point 1.1.
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
