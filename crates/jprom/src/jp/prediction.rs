@@ -47,11 +47,10 @@ pub(crate) const PARALLEL_PATTERNS_MAX_BYTES: u128 = 500_000_000;
 /// `PARALLEL_PATTERNS_MAX_BYTES` and as many fit in the memory budget; else one at a time
 /// (each solve parallel inside).
 pub fn patterns_at_once(per_pattern_bytes: u128, budget_bytes: usize, n_samples: usize) -> usize {
-    if per_pattern_bytes > PARALLEL_PATTERNS_MAX_BYTES || per_pattern_bytes == 0 {
+    if per_pattern_bytes > PARALLEL_PATTERNS_MAX_BYTES {
         return 1;
     }
-    let fit = usize::try_from(budget_bytes as u128 / per_pattern_bytes).unwrap_or(usize::MAX).max(1);
-    rayon::current_num_threads().min(n_samples).min(fit).max(1)
+    reference_patterns_at_once(per_pattern_bytes, budget_bytes, n_samples)
 }
 
 /// How many contact patterns [`predict_basis`] solves at once on a shared reference: as many

@@ -55,18 +55,30 @@ pub fn reference_working_set_bytes(n: usize, nw: usize, harmonics: usize) -> u12
     bytes_of::<f64>(product(&[n, n]).saturating_add(per_h.saturating_mul(harmonics as u128 + 1)))
 }
 
+/// Columns of the Woodbury capacitance `I + S_l R` that the shifted solve on a reference forms
+/// at a time (`shift_invert::ShiftedSolve::new`); its temporaries are sized by it.
+pub(crate) const CAPACITANCE_PANEL: usize = 512;
+
+/// Whether the shifted solve of a pattern on a reference reads `Y_h,l` in the reference's `Y_h`
+/// instead of copying it: when its `r_lead` leading coordinates are at least half of the `n_w`
+/// (the product with all of `Y_h` then costs at most twice the copy's).
+pub(crate) fn reads_lead_columns_in_place(r_lead: usize, n_w: usize) -> bool {
+    2 * r_lead >= n_w
+}
+
 /// Estimated bytes of one pattern with `r` active coordinates, `r_l` of them leading
 /// ([`ActivePart::lead`]), on the reference of a model of `n` DoFs, `n_w` of them contact
 /// coordinates: the static condensation's `n x r` solves and `r`-square blocks, the gathered
 /// `Y_h,l` (`H n r_l`, only when `2 r_l < n_w`: otherwise the reference's `Y_h` are read in
-/// place), `g_aa E_l^T` (`r r_l`), the capacitance's column panels (`2 (2H + 1) r` by 512) and
+/// place), `g_aa E_l^T` (`r r_l`), the capacitance's column panels (`2 (2H + 1) r` by
+/// `CAPACITANCE_PANEL`) and
 /// the shifted capacitance factorised in its place (`(2 H r_l)^2`; `S` is applied by its
 /// factors, never formed).
 pub fn active_pattern_working_set_bytes(n: usize, n_w: usize, r: usize, r_lead: usize, harmonics: usize) -> u128 {
     use crate::memory::{bytes_of, product};
     let s = product(&[2 * harmonics, r_lead]);
-    let lead_copies = if 2 * r_lead < n_w { product(&[harmonics, n, r_lead]) } else { 0 };
-    let panels = product(&[2 * (2 * harmonics + 1), r, 512]);
+    let lead_copies = if reads_lead_columns_in_place(r_lead, n_w) { 0 } else { product(&[harmonics, n, r_lead]) };
+    let panels = product(&[2 * (2 * harmonics + 1), r, CAPACITANCE_PANEL]);
     let vectors = product(&[2, n, r]).saturating_add(lead_copies).saturating_add(panels);
     bytes_of::<f64>(vectors.saturating_add(product(&[3, r, r])).saturating_add(product(&[r, r_lead])).saturating_add(s.saturating_mul(s)))
 }

@@ -37,7 +37,7 @@
 //! solve's (which counts a stuck pair as 2).
 
 use super::mode_selection::ModeOptions;
-use super::reference::{ActivePart, ReferenceFactors};
+use super::reference::{reads_lead_columns_in_place, ActivePart, ReferenceFactors, CAPACITANCE_PANEL};
 use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
@@ -56,8 +56,6 @@ pub const ARNOLDI_TOLERANCE: f64 = 1e-12;
 /// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v| + f)` of a
 /// kept eigenpair, `f` the rounding floor of the products (see `residuals`).
 pub const RESIDUAL_TOLERANCE: f64 = 1e-6;
-/// Columns of the Woodbury capacitance `I + S_l R` formed at a time ([`ShiftedSolve::new`]).
-const CAPACITANCE_PANEL: usize = 512;
 /// Eigenpairs requested at first; doubled until the band is covered.
 pub const INITIAL_REQUEST: usize = 16;
 /// Number of doublings of the request before giving up.
@@ -510,9 +508,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                         } else {
                             return Err(JpError::invalid("shift", format!("a problem on a reference is solved at its shift {} or at 0, not {shift}", reference.shift())));
                         };
-                        // in place when copying would take more than half of Y_h (the product
-                        // with all of Y_h then costs at most twice the copy's)
-                        let y = if 2 * lead_rows.len() >= problem.coords.n_w {
+                        let y = if reads_lead_columns_in_place(lead_rows.len(), problem.coords.n_w) {
                             LeadColumns::Shared(reference, idx.clone(), lead_rows.clone())
                         } else {
                             LeadColumns::Own(idx.iter().map(|&h| reference.y_columns(h, &lead_rows)).collect())
