@@ -15,8 +15,15 @@
 //! between close singular values (1.0e-3 and 0.9e-3 of the largest in harmonic 2). There the
 //! bound is 1e-7 between the two paths (measured 9.0e-9 and 1.9e-10), and 1e-6 against the dense
 //! eigen solve for harmonics 1 to 3 (measured 7.0e-8 in harmonic 1), whose eigenvectors of
-//! nearly multiple eigenvalues are less accurate than Arnoldi's refined ones. Every other
-//! harmonic and case is held to 1e-8.
+//! nearly multiple eigenvalues are less accurate than Arnoldi's refined ones. At H = 1 on the
+//! default blade, where `p̂_min` is the first touch of the friction cone (since 2026-12-04,
+//! `slip_onset_amplitude`), the 20 samples meet patterns whose eigenvalues come in near-conjugate
+//! pairs 1.4e-3 to 4e-3 apart (just outside `CLUSTER_TOLERANCE`, so not taken as one cluster):
+//! their eigenvectors are sensitive, and all three paths (shared, per pattern, dense) differ by
+//! 1e-7 in harmonics 0 and 1 (measured 2.3e-7 and 1.9e-7 shared against per pattern, 1.5e-7 and
+//! 1.1e-7 against dense; the same ROM peak to 3e-10). There the bound is 1e-6. Every other
+//! harmonic and case is held to 1e-8 (at H = 3 on that blade harmonic 0 against the dense solve
+//! measured 1.75e-8, held to 1e-6 with harmonics 1 to 3).
 
 use faer::Mat;
 use jprom::hbm::{sweep, HbmOptions, SweepOptions};
@@ -59,9 +66,9 @@ fn fr_peak(coords: &ContactCoordinates, basis: &JpBasis, band: (f64, f64)) -> f6
 }
 
 /// Compares the shared-reference prediction with the per-pattern one (shift-invert), the
-/// harmonics `weak` held to 1e-7 instead of 1e-8 (see the module doc); and, where `dense` is
+/// harmonics `weak.0` held to `weak.1` instead of 1e-8 (see the module doc); and, where `dense` is
 /// given, with the per-pattern dense eigen solve, its harmonics held to its bound instead of 1e-8.
-fn compare(blade: &Blade, h: usize, n_samples: usize, weak: &[usize], dense: Option<(&[usize], f64)>) {
+fn compare(blade: &Blade, h: usize, n_samples: usize, weak: (&[usize], f64), dense: Option<(&[usize], f64)>) {
     let model = blade.at_level(blade.alpha_st / 10.0);
     let coords = ContactCoordinates::new(&model, h).unwrap();
     let per = predicted(&coords, blade.band, PatternFactorisation::PerPattern, n_samples);
@@ -72,7 +79,7 @@ fn compare(blade: &Blade, h: usize, n_samples: usize, weak: &[usize], dense: Opt
     assert_eq!(per.n_patterns, shared.n_patterns, "{what}");
     for (k, (a, b)) in per.phi.iter().zip(&shared.phi).enumerate() {
         let s = largest_angle_sin(a, b);
-        let bound = if weak.contains(&k) { 1e-7 } else { 1e-8 };
+        let bound = if weak.0.contains(&k) { weak.1 } else { 1e-8 };
         eprintln!("{what}: harmonic {k}, n_h = {}, largest principal angle {s:.2e}", a.ncols());
         assert!(s < bound, "{what}: harmonic {k}: largest principal angle {s:.3e}");
     }
@@ -98,15 +105,15 @@ fn compare(blade: &Blade, h: usize, n_samples: usize, weak: &[usize], dense: Opt
 #[test]
 fn shared_reference_gives_the_per_pattern_basis_on_the_default_blade() {
     let blade = Blade::build();
-    compare(&blade, 1, 20, &[], Some((&[], 1e-8)));
-    compare(&blade, 3, 20, &[2, 3], Some((&[1, 2, 3], 1e-6)));
+    compare(&blade, 1, 20, (&[0, 1], 1e-6), Some((&[0, 1], 1e-6)));
+    compare(&blade, 3, 20, (&[2, 3], 1e-7), Some((&[0, 1, 2, 3], 1e-6)));
 }
 
 #[test]
 fn shared_reference_gives_the_per_pattern_basis_on_the_refinement_5_blade() {
     let blade = Blade::build_refined(5);
-    compare(&blade, 1, 6, &[], None);
-    compare(&blade, 3, 4, &[], None);
+    compare(&blade, 1, 6, (&[], 1e-8), None);
+    compare(&blade, 3, 4, (&[], 1e-8), None);
 }
 
 /// `K̂` of the AFT evaluation at the static part `q0` and first-harmonic cos part `p phi`.
@@ -215,6 +222,27 @@ fn static_corrections_by_gmres_match_the_shift_0_factorisation() {
             eprintln!("H = {h}, {} active, column {j}: GMRES vs direct {diff:.2e}, residual {res:.2e}", part.len());
             assert!(diff < 1e-9, "H = {h}, column {j}: {diff:.3e}");
             assert!(res < 1e-11, "H = {h}, column {j}: residual {res:.3e}");
+        }
+    }
+}
+
+#[test]
+fn diag_eigen_gaps() {
+    use jprom::jp::prediction::predict_modes;
+    let blade = Blade::build();
+    let model = blade.at_level(blade.alpha_st / 10.0);
+    for h in [1] {
+        let coords = ContactCoordinates::new(&model, h).unwrap();
+        let mut popts = PredictionOptions::new(blade.band);
+        popts.n_samples = 20;
+        popts.factorisation = PatternFactorisation::PerPattern;
+        let (m, rep) = predict_modes(&coords, &popts).unwrap();
+        eprintln!("DIAG p_min {:.6e} p_max {:.6e} amplitudes {:?}", rep.p_min, rep.p_max, rep.pattern_amplitudes);
+        for (i, pm) in m.modes.iter().enumerate() {
+            let ev = &pm.eigenvalues;
+            let mut g = f64::INFINITY;
+            for a in 0..ev.len() { for b in 0..a { let (x, y) = (ev[a], ev[b]); let d = (x.0 - y.0).hypot(x.1 - y.1) / x.0.hypot(x.1); if d > 0.0 { g = g.min(d); } } }
+            eprintln!("DIAG pattern {i}: {} eigenvalues, min relative gap {g:.2e}, f {:?}", ev.len(), pm.frequencies().iter().map(|w| (w / 6.283185307) as i64).collect::<Vec<_>>());
         }
     }
 }
