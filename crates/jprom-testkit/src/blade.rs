@@ -123,6 +123,22 @@ pub fn alpha_stuck(model: &Model, omega: f64) -> f64 {
     m.excitation.level()
 }
 
+/// The contact coordinates `w` (all harmonics) at the static part `q0` and first-harmonic cos
+/// part `p phi`, a point of the prediction's generating motion (docs/formulation.md §8.8), and
+/// the AFT's forces there, with their cycles (and `K̂` when `jacobian`).
+pub fn forces_along_shape(coords: &ContactCoordinates, q0: &[f64], phi: &[f64], p: f64, jacobian: bool) -> (Vec<f64>, ContactForces) {
+    let plan = coords.discretisation.plan().unwrap();
+    let (hh, nw) = (plan.harmonics(), coords.n_w);
+    let mut w = vec![0.0; nw * (2 * hh + 1)];
+    w[..nw].copy_from_slice(&q0[..nw]);
+    for i in 0..nw {
+        w[nw + i] = p * phi[i];
+    }
+    let mut out = ContactForces::default();
+    evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w, jacobian, true, &mut out);
+    (w, out)
+}
+
 /// Tip-node output harmonic `h` (3-vector, cos and sin parts) of an output vector.
 pub fn tip(outputs: &[f64], n_outputs: usize, h: usize) -> Vec<f64> {
     let ks: Vec<usize> = if h == 0 { vec![0] } else { vec![2 * h - 1, 2 * h] };

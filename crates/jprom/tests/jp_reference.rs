@@ -27,13 +27,12 @@
 
 use faer::Mat;
 use jprom::hbm::{sweep, HbmOptions, SweepOptions};
-use jprom::aft::{evaluate_contacts, ContactForces};
 use jprom::jp::prediction::{static_solution, PatternFactorisation};
 use jprom::jp::reference::ReferenceFactors;
 use jprom::jp::{jp_modes, jp_modes_on_reference, predict_basis, stuck_mode, ContactJacobian, EigenSolver, JpBasis, ModeOptions, PredictionOptions};
 use jprom::model::ContactCoordinates;
 use jprom::rom::FrRom;
-use jprom_testkit::blade::{tip_amplitude, Blade};
+use jprom_testkit::blade::{forces_along_shape, tip_amplitude, Blade};
 use std::ops::ControlFlow;
 
 /// `sin` of the largest principal angle between the spans of the orthonormal `a` and `b`.
@@ -118,16 +117,8 @@ fn shared_reference_gives_the_per_pattern_basis_on_the_refinement_5_blade() {
 
 /// `K̂` of the AFT evaluation at the static part `q0` and first-harmonic cos part `p phi`.
 fn jacobian_at(coords: &ContactCoordinates, q0: &[f64], phi: &[f64], p: f64) -> ContactJacobian {
-    let plan = coords.discretisation.plan().unwrap();
-    let (hh, nw) = (plan.harmonics(), coords.n_w);
-    let mut w = vec![0.0; nw * (2 * hh + 1)];
-    w[..nw].copy_from_slice(&q0[..nw]);
-    for i in 0..nw {
-        w[nw + i] = p * phi[i];
-    }
-    let mut out = ContactForces::default();
-    evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w, true, true, &mut out);
-    ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &out, &w).unwrap()
+    let (w, out) = forces_along_shape(coords, q0, phi, p, true);
+    ContactJacobian::from_forces(&coords.laws, &coords.offsets, coords.n_w, coords.discretisation.plan().unwrap().harmonics(), &out, &w).unwrap()
 }
 
 /// One Jacobian at a time: `jp_modes_on_reference` against `jp_modes` (eigenvalues against the
@@ -222,27 +213,6 @@ fn static_corrections_by_gmres_match_the_shift_0_factorisation() {
             eprintln!("H = {h}, {} active, column {j}: GMRES vs direct {diff:.2e}, residual {res:.2e}", part.len());
             assert!(diff < 1e-9, "H = {h}, column {j}: {diff:.3e}");
             assert!(res < 1e-11, "H = {h}, column {j}: residual {res:.3e}");
-        }
-    }
-}
-
-#[test]
-fn diag_eigen_gaps() {
-    use jprom::jp::prediction::predict_modes;
-    let blade = Blade::build();
-    let model = blade.at_level(blade.alpha_st / 10.0);
-    for h in [1] {
-        let coords = ContactCoordinates::new(&model, h).unwrap();
-        let mut popts = PredictionOptions::new(blade.band);
-        popts.n_samples = 20;
-        popts.factorisation = PatternFactorisation::PerPattern;
-        let (m, rep) = predict_modes(&coords, &popts).unwrap();
-        eprintln!("DIAG p_min {:.6e} p_max {:.6e} amplitudes {:?}", rep.p_min, rep.p_max, rep.pattern_amplitudes);
-        for (i, pm) in m.modes.iter().enumerate() {
-            let ev = &pm.eigenvalues;
-            let mut g = f64::INFINITY;
-            for a in 0..ev.len() { for b in 0..a { let (x, y) = (ev[a], ev[b]); let d = (x.0 - y.0).hypot(x.1 - y.1) / x.0.hypot(x.1); if d > 0.0 { g = g.min(d); } } }
-            eprintln!("DIAG pattern {i}: {} eigenvalues, min relative gap {g:.2e}, f {:?}", ev.len(), pm.frequencies().iter().map(|w| (w / 6.283185307) as i64).collect::<Vec<_>>());
         }
     }
 }

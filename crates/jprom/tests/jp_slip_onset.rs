@@ -16,24 +16,15 @@
 //! 0.93 of it on the default blade)
 //! (run with `--nocapture` for the figures).
 
-use jprom::aft::{evaluate_contacts, ContactForces};
 use jprom::contact::ContactState;
 use jprom::jp::prediction::{predict_modes, slip_onset_amplitude, static_solution, stuck_mode};
 use jprom::jp::PredictionOptions;
 use jprom::model::ContactCoordinates;
-use jprom_testkit::blade::Blade;
+use jprom_testkit::blade::{forces_along_shape, Blade};
 
 /// Whether every contact sticks at every sample at `q0 + p phi cos`.
 fn all_stuck(coords: &ContactCoordinates, q0: &[f64], phi: &[f64], p: f64) -> bool {
-    let plan = coords.discretisation.plan().unwrap();
-    let (hh, nw) = (plan.harmonics(), coords.n_w);
-    let mut w = vec![0.0; nw * (2 * hh + 1)];
-    w[..nw].copy_from_slice(&q0[..nw]);
-    for i in 0..nw {
-        w[nw + i] = p * phi[i];
-    }
-    let mut out = ContactForces::default();
-    evaluate_contacts(&plan, &coords.laws, &coords.offsets, nw, &w, false, true, &mut out);
+    let (_, out) = forces_along_shape(coords, q0, phi, p, false);
     out.cycles.iter().all(|c| c.states.iter().all(|&s| s == ContactState::Stick))
 }
 
