@@ -90,6 +90,18 @@
 //! (3 iterations, 12.0 GB peak), actual e_1 2.4e-3 for both ROMs, tip X1 error 3.1e-4. The whole
 //! H = 1 study (CB 167.6 + basis 163.2 + FR model 1.1 + sweep 20.2 s = 352 s) is 93 times
 //! faster than 200 such points. Exponents from 242 to 1,922 contacts: basis 2.5, FR per point 1.1.
+//! Then `p̂_min` searched from below (`slip_onset_amplitude`: the first touch of the friction
+//! cone, where the bisection had landed anywhere in the 20 % past it) and `p̂_max`'s linear
+//! estimate by one complex `n`-square solve instead of the real `2n` one (17.5 -> 6.0 s): H = 1
+//! basis 145.1 s, sizes [31, 10], the same active coordinates per pattern within a few, e*_1
+//! 0.040, resonances 2146.90 / 2146.68 Hz, FR 0.091 s/point (sweep 18.1 s), NLR 0.094; one
+//! full-order point 146.4 s in this run (the same 3 iterations, 12.1 GB; 163.6 s in the run
+//! before), actual e_1 2.4e-3, tip X1 error 3.1e-4; the whole study 332 s, 88 times faster than
+//! 200 of this run's full-order points (99 times at the earlier run's). H = 3: basis 935.7 s
+//! (911.0 s the run before; the same two fully active patterns), peak 10,762 MB, sizes
+//! [44, 13, 25, 18], e*_1 0.051, FR 0.312 s/point. Refinement 5: 1.1 s [33, 8] (H = 1), 5.7 s
+//! [47, 12, 27, 19] at 432 MB peak (H = 3); refinement 1: [27, 8]. Exponents from 242 to 1,922
+//! contacts: basis 2.4, FR per point 1.0.
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
