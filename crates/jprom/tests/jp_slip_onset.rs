@@ -65,6 +65,13 @@ fn check(blade: &Blade, h: usize) {
     let (lo, hi) = found.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &p| (a.min(p), b.max(p)));
     assert!(hi / lo < 1.02, "H = {h}: p_min spread {lo} .. {hi}");
 
+    // refused: a p_max that is not finite and > 0, a shape shorter than the contact coordinates
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = slip_onset_amplitude(&coords, shape, bad).unwrap_err();
+        assert!(e.to_string().contains("p_max"), "H = {h}: p_max {bad}: {e}");
+    }
+    let short = &q0[..coords.n_w - 1];
+    assert!(slip_onset_amplitude(&coords, (short, &phi[..], &sin[..]), p_max).is_err(), "H = {h}: a short shape");
     // stuck at p_max: p_max itself
     let below = 0.5 * touch;
     assert_eq!(slip_onset_amplitude(&coords, shape, below).unwrap(), below);

@@ -447,8 +447,15 @@ const ONSET_MAX_HALVINGS: usize = 60;
 /// the first slip is met, to a relative 1e-6.
 ///
 /// # Errors
-/// A failed external law (C callback).
+/// [`JpError::InvalidValue`] for a `p_max` that is not finite and > 0, [`JpError::BadSize`]
+/// for a shape shorter than the contact coordinates; a failed external law (C callback).
 pub fn slip_onset_amplitude(coords: &ContactCoordinates, (q0, c, s): (&[f64], &[f64], &[f64]), p_max: f64) -> Result<f64> {
+    if !(p_max.is_finite() && p_max > 0.0) {
+        return Err(JpError::invalid("p_max", format!("must be finite and > 0, got {p_max}")));
+    }
+    if let Some(short) = [q0, c, s].iter().map(|v| v.len()).find(|&l| l < coords.n_w) {
+        return Err(JpError::bad_size("generating shape (contact coordinates)", coords.n_w, short));
+    }
     let plan = &coords.discretisation.plan()?;
     let (nw, hh) = (coords.n_w, plan.harmonics());
     let stuck = |p: f64| -> Result<bool> { Ok(all_stuck(&eval(coords, plan, &contact_w(nw, hh, q0, c, s, p), false, true)?)) };
