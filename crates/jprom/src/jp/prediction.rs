@@ -442,9 +442,9 @@ const ONSET_MAX_HALVINGS: usize = 60;
 /// change of `p̂_max` in its last bits moved `p̂_min` by 16 %, and every sample and pattern with
 /// it). A slip flag is reliable (the trial force reached the cone); a stuck one past the first
 /// touch is not. So: halve `p̂_max` until two halvings in a row stick, scan up by coarse steps
-/// to the first slip, scan again by fine steps from four coarse steps below it (where the
-/// coarse scan may have passed stuck flags of the rounding), and bisect the fine step where
-/// the first slip is met, to a relative 1e-6.
+/// to the first slip, scan again by fine steps from four coarse steps below it up to it (the
+/// coarse scan may have passed stuck flags of the rounding there), and bisect the fine step
+/// where the first slip is met, to a relative 1e-6: at most 64 fine steps.
 ///
 /// # Errors
 /// [`JpError::InvalidValue`] for a `p_max` that is not finite and > 0, [`JpError::BadSize`]
@@ -478,19 +478,20 @@ pub fn slip_onset_amplitude(coords: &ContactCoordinates, (q0, c, s): (&[f64], &[
     if in_a_row == 0 {
         return Ok(0.0);
     }
-    // (last stuck, first slipping) amplitude of the grid `from step^k` (`p_max` slips)
-    let scan_up = |from: f64, step: f64| -> Result<(f64, f64)> {
+    // (last stuck, first slipping) amplitude of the grid `from step^k`, up to `to` (which slips)
+    let scan_up = |from: f64, step: f64, to: f64| -> Result<(f64, f64)> {
         let mut lo = from;
         loop {
-            let next = (lo * step).min(p_max);
-            if next >= p_max || !stuck(next)? {
+            let next = (lo * step).min(to);
+            if next >= to || !stuck(next)? {
                 return Ok((lo, next));
             }
             lo = next;
         }
     };
-    let (_, coarse) = scan_up(below, ONSET_COARSE_STEP)?;
-    let (mut lo, mut hi) = scan_up((coarse / ONSET_COARSE_STEP.powi(ONSET_FINE_SPAN)).max(below), ONSET_FINE_STEP)?;
+    let (_, coarse) = scan_up(below, ONSET_COARSE_STEP, p_max)?;
+    let from = (coarse / ONSET_COARSE_STEP.powi(ONSET_FINE_SPAN)).max(below);
+    let (mut lo, mut hi) = scan_up(from, ONSET_FINE_STEP, coarse)?;
     while hi - lo > 1e-6 * hi {
         let mid = 0.5 * (lo + hi);
         if stuck(mid)? {
