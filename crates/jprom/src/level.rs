@@ -19,8 +19,6 @@
 use crate::contact::ContactLaw;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
-use faer::c64;
-use faer::Mat;
 
 /// What the levels of a study are measured against.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,9 +124,7 @@ pub fn stuck_limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st
 /// [`stuck_limit_scale`], or 0 and the first contact at its limit in the static state.
 fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> Result<(f64, String)> {
     let n = coords.n_dof;
-    let kst = coords.stuck_stiffness();
-    let w2 = omega_st * omega_st;
-    let d = Mat::from_fn(n, n, |i, j| c64::new(kst[(i, j)] - w2 * coords.mass[(i, j)], coords.dissipation(omega_st, i, j)));
+    let (d, rhs) = coords.first_harmonic_complex(&coords.stuck_stiffness(), omega_st)?;
     // Undamped (no imaginary part in D), the linear stuck response at the stuck resonance is
     // unbounded: the solve below would return round-off-sized scales (1e-14 on the CalculiX
     // block), silently.
@@ -138,8 +134,6 @@ fn limit_scale(coords: &ContactCoordinates, static_z: &[f64], omega_st: f64) -> 
             format!("the model has no damping: its linear stuck response at the stuck resonance ({omega_st:.6e} rad/s) is unbounded, so alpha_ST is not defined; set viscous, modal or hysteretic damping first"),
         ));
     }
-    let (fc, fs) = &coords.harmonic_force[0];
-    let rhs = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
     let q = crate::linalg::DenseLu::new(&d).solve(&rhs);
     let mut scale = f64::INFINITY;
     let mut why = String::new();

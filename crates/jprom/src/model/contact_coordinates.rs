@@ -13,7 +13,7 @@ use crate::contact::{Contact, ContactLaw};
 use std::collections::HashMap;
 use crate::error::{JpError, Result};
 use crate::model::Model;
-use faer::Mat;
+use faer::{c64, Mat};
 
 /// The transformation `x = T z` and the model's matrices and forces in `z` coordinates.
 #[derive(Clone, Debug)]
@@ -99,6 +99,22 @@ impl ContactCoordinates {
             }
         }
         Some(k)
+    }
+
+    /// The first harmonic's linear response in complex form at `omega`, with `k` the stiffness
+    /// of a linear limit (`K` plus its contact springs): `D = k - omega^2 M + i (omega C + eta K)`
+    /// and `f = f_c - i f_s`, so that `D z = f` gives `z = x_c - i x_s` of the real cos/sin form
+    /// (docs/formulation.md §8.8 step 4).
+    ///
+    /// # Errors
+    /// [`JpError::InvalidValue`] if the model has no first-harmonic force.
+    pub fn first_harmonic_complex(&self, k: &Mat<f64>, omega: f64) -> Result<(Mat<c64>, Mat<c64>)> {
+        let n = self.n_dof;
+        let (fc, fs) = self.harmonic_force.first().ok_or_else(|| JpError::invalid("excitation", "no first-harmonic force"))?;
+        let w2 = omega * omega;
+        let d = Mat::from_fn(n, n, |i, j| c64::new(k[(i, j)] - w2 * self.mass[(i, j)], self.dissipation(omega, i, j)));
+        let f = Mat::from_fn(n, 1, |i, _| c64::new(fc[i], -fs[i]));
+        Ok((d, f))
     }
 
     /// [`dissipation`] of entry `(i, j)` of the `z`-coordinate matrices.
