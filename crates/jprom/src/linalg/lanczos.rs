@@ -30,6 +30,7 @@ pub struct SparseCholesky {
     symbolic: SymbolicCholesky<usize>,
     values: Vec<f64>,
     n: usize,
+    ordering: FillOrdering,
     /// Supernodal factor: the supernode of each (permuted) row, and each supernode's parent in
     /// the elimination tree (`usize::MAX` at a root). Empty for a simplicial factor.
     supernode_of_row: Vec<usize>,
@@ -40,8 +41,17 @@ pub struct SparseCholesky {
 
 impl std::fmt::Debug for SparseCholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SparseCholesky").field("n", &self.n).field("factor_nnz", &self.values.len()).finish_non_exhaustive()
+        f.debug_struct("SparseCholesky").field("n", &self.n).field("ordering", &self.ordering).field("factor_nnz", &self.values.len()).finish_non_exhaustive()
     }
+}
+
+/// The fill-reducing ordering a [`SparseCholesky`] was factorised with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FillOrdering {
+    /// faer's approximate minimum degree.
+    Amd,
+    /// [`super::ordering::nested_dissection`].
+    NestedDissection,
 }
 
 /// Most solve workspaces a factor keeps between solves (one per concurrent solve).
@@ -82,18 +92,35 @@ fn supernode_tree(symbolic: &SymbolicCholesky<usize>, n: usize) -> (Vec<usize>, 
     (of_row, parent)
 }
 
+/// Smallest matrix for which [`SparseCholesky::factor`] tries a nested-dissection ordering
+/// beside AMD. On the blade's interior stiffness `K_ii` AMD left as little fill at 33,555
+/// unknowns (18.4 M values against 18.7 M), 14 % more at 59,643 and 34 % more at 134,865;
+/// below this size AMD is kept, and with it the bits of the smaller models' reductions.
+pub const NESTED_DISSECTION_MIN: usize = 50_000;
+
 /// Fewest columns per thread for which [`SparseCholesky::solve_in_place`] splits the columns
 /// among the threads.
 pub const SPLIT_COLUMNS: usize = 16;
 
 impl SparseCholesky {
     /// Factorises the symmetric positive definite `a` (full or lower storage: the lower
-    /// triangle is read), with an AMD ordering and a supernodal factor.
+    /// triangle is read), with a supernodal factor and the fill-reducing ordering, AMD or nested
+    /// dissection ([`super::ordering`]), whose factor holds fewer values.
     ///
     /// # Errors
     /// [`JpError::BadSize`] if `a` is not square, [`JpError::SingularMatrix`] naming `what`
     /// if it is not numerically positive definite, [`JpError::InvalidValue`] if out of memory.
     pub fn factor(a: &SparseMat, what: &str) -> Result<Self> {
+        Self::factor_with(a, what, a.nrows() >= NESTED_DISSECTION_MIN)
+    }
+
+    /// [`SparseCholesky::factor`] that tries the nested dissection (of a matrix of at least
+    /// `4 ordering::LEAF` rows) when `nested_dissection` is true, whatever its size, and keeps
+    /// AMD's ordering when it is false.
+    ///
+    /// # Errors
+    /// As [`SparseCholesky::factor`].
+    pub fn factor_with(a: &SparseMat, what: &str, nested_dissection: bool) -> Result<Self> {
         let n = a.nrows();
         if a.ncols() != n {
             return Err(JpError::bad_size(format!("{what} (columns)"), n, a.ncols()));
@@ -102,8 +129,29 @@ impl SparseCholesky {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let symbolic = factorize_symbolic_cholesky(a.as_ref().symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
-            .map_err(|e| JpError::invalid(what, format!("symbolic Cholesky failed: {e:?}")))?;
+        let symbolic_with = |ordering: SymmetricOrdering<'_, usize>| {
+            factorize_symbolic_cholesky(a.as_ref().symbolic(), Side::Lower, ordering, params)
+                .map_err(|e| JpError::invalid(what, format!("symbolic Cholesky failed: {e:?}")))
+        };
+        // the ordering of smaller fill: AMD, or (on graphs large enough to split) a nested
+        // dissection (linalg::ordering)
+        let amd = symbolic_with(SymmetricOrdering::Amd)?;
+        let symbolic = if nested_dissection && n >= 4 * super::ordering::LEAF {
+            let order = super::ordering::nested_dissection(a.as_ref().symbolic());
+            let mut inv = vec![0usize; n];
+            for (k, &v) in order.iter().enumerate() {
+                inv[v] = k;
+            }
+            let nd = symbolic_with(SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(&order, &inv, n)))?;
+            if nd.len_val() < amd.len_val() {
+                (nd, FillOrdering::NestedDissection)
+            } else {
+                (amd, FillOrdering::Amd)
+            }
+        } else {
+            (amd, FillOrdering::Amd)
+        };
+        let (symbolic, ordering) = symbolic;
         let mut values = vec![0.0; symbolic.len_val()];
         {
             let req = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
@@ -124,7 +172,7 @@ impl SparseCholesky {
             return Err(JpError::singular(format!("{what} (non-finite Cholesky factor)")));
         }
         let (supernode_of_row, parent) = supernode_tree(&symbolic, n);
-        Ok(SparseCholesky { symbolic, values, n, supernode_of_row, parent, scratch: std::sync::Mutex::new(Vec::new()) })
+        Ok(SparseCholesky { symbolic, values, n, ordering, supernode_of_row, parent, scratch: std::sync::Mutex::new(Vec::new()) })
     }
 
     /// Runs `f` on a workspace of `req`, reusing one that an earlier solve of the same shape
@@ -153,6 +201,11 @@ impl SparseCholesky {
         self.n
     }
 
+    /// The fill-reducing ordering chosen (the one of fewer stored values of `L`).
+    pub fn ordering(&self) -> FillOrdering {
+        self.ordering
+    }
+
     /// Number of stored values of `L`.
     pub fn factor_nnz(&self) -> usize {
         self.values.len()
@@ -160,8 +213,10 @@ impl SparseCholesky {
 
     /// Solves `A X = B` in place (any number of columns). With several threads and at least
     /// [`SPLIT_COLUMNS`] columns a thread, the columns are split among the threads, each
-    /// solving its share alone, in the same bits as faer's solve on all threads (unit test
-    /// below; faer's supernodal solve runs the supernodes in sequence and shares only each
+    /// solving its share alone: faer's operations, the same bits as faer's solve on all threads
+    /// where the supernodes are small (an AMD factor), the same to rounding where faer's
+    /// products on large supernodes sum in an order that depends on the number of columns (unit
+    /// test below; faer's supernodal solve runs the supernodes in sequence and shares only each
     /// supernode's small products among the threads, which left them mostly waiting). The
     /// Craig-Bampton of the refinement-8 blade (61,404 DoFs, blocks of 256 boundary columns)
     /// 31.1 -> 22.2 s, of the refinement-15 blade (140,658 DoFs) 267 -> 158 s. The solves'
@@ -656,39 +711,50 @@ mod tests {
     }
 
     /// The solve (split among the threads, visiting only the supernodes the right-hand sides
-    /// reach) gives the same bits as faer's solve on all threads, for widths below and above
+    /// reach) gives the same bits as faer's solve on all threads, on the grid's AMD factor, for widths below and above
     /// the split, with dense right-hand sides and with ones nonzero on one face of the grid
     /// only (as a Craig-Bampton `K_iB`), on a 3D grid Laplacian (17,576 unknowns). (A
     /// one-column half solve on one thread does not: it differs in the last bit from faer's on
-    /// two, so the half solves keep faer's threading.)
+    /// two, so the half solves keep faer's threading.) On the grid's nested-dissection factor,
+    /// whose top separators are supernodes of hundreds of columns, faer's products sum in an
+    /// order that depends on how many right-hand sides they see, so a split solve agrees with
+    /// faer's to rounding there, and in bits where it is not split.
     #[test]
     fn solve_gives_faer_bits() {
         let g = 26usize;
         let n = g * g * g;
         let a = grid(g);
-        let chol = SparseCholesky::factor(&a, "grid").unwrap();
-        let face: Vec<usize> = (0..g * g).collect(); // x = 0
-        let reached = chol.reached_fraction(&chol.reach(&face));
-        assert!(reached < 0.9, "one face should reach part of the factor only: {reached}");
         let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
-        for sparse in [false, true] {
-            for k in [1usize, 17, 33, 64, 256] {
-                let b = Mat::from_fn(n, k, |i, j| {
-                    if sparse && i >= g * g {
-                        0.0
-                    } else {
-                        ((i * 31 + j * 17) % 101) as f64 / 50.0 - 1.0
-                    }
-                });
-                let mut want = b.clone();
-                let mut got = b.clone();
-                pool.install(|| {
-                    faer_solve(&chol, &mut want, Par::rayon(2));
-                    chol.solve_in_place(got.as_mut());
-                });
-                for j in 0..k {
-                    for i in 0..n {
-                        assert_eq!(want[(i, j)].to_bits(), got[(i, j)].to_bits(), "sparse {sparse}, k = {k}: entry ({i}, {j})");
+        for nd in [false, true] {
+            let chol = SparseCholesky::factor_with(&a, "grid", nd).unwrap();
+            assert_eq!(chol.ordering() == FillOrdering::NestedDissection, nd);
+            let face: Vec<usize> = (0..g * g).collect(); // x = 0
+            let reached = chol.reached_fraction(&chol.reach(&face));
+            assert!(reached < 0.9, "one face should reach part of the factor only: {reached}");
+            for sparse in [false, true] {
+                for k in [1usize, 17, 33, 64, 256] {
+                    let b = Mat::from_fn(n, k, |i, j| {
+                        if sparse && i >= g * g {
+                            0.0
+                        } else {
+                            ((i * 31 + j * 17) % 101) as f64 / 50.0 - 1.0
+                        }
+                    });
+                    let mut want = b.clone();
+                    let mut got = b.clone();
+                    pool.install(|| {
+                        faer_solve(&chol, &mut want, Par::rayon(2));
+                        chol.solve_in_place(got.as_mut());
+                    });
+                    for j in 0..k {
+                        for i in 0..n {
+                            let what = format!("nested dissection {nd}, sparse {sparse}, k = {k}: entry ({i}, {j})");
+                            if nd && k >= 2 * SPLIT_COLUMNS {
+                                assert!((want[(i, j)] - got[(i, j)]).abs() <= 1e-14 * (1.0 + want[(i, j)].abs()), "{what}");
+                            } else {
+                                assert_eq!(want[(i, j)].to_bits(), got[(i, j)].to_bits(), "{what}");
+                            }
+                        }
                     }
                 }
             }
@@ -725,5 +791,34 @@ mod tests {
                 assert_eq!(want[(i, 0)].to_bits(), got[(i, 0)].to_bits(), "k = {k}: computed row {i}");
             }
         }
+    }
+
+    #[test]
+    fn the_cholesky_factor_takes_the_smaller_fill_and_solves_right() {
+        use crate::linalg::sparse::sparse_matvec;
+        let a = grid(20);
+        let n = a.nrows();
+        let chol = SparseCholesky::factor_with(&a, "grid", true).unwrap();
+        assert_eq!(chol.ordering(), FillOrdering::NestedDissection);
+        let amd = faer::sparse::linalg::cholesky::factorize_symbolic_cholesky(
+            a.symbolic(),
+            faer::Side::Lower,
+            faer::sparse::linalg::cholesky::SymmetricOrdering::Amd,
+            faer::sparse::linalg::cholesky::CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .len_val();
+        assert!(chol.factor_nnz() < amd, "{} values against AMD's {amd}", chol.factor_nnz());
+        let x: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 / 101.0 - 0.5).collect();
+        let b = sparse_matvec(&a, &x);
+        let mut y = faer::Mat::from_fn(n, 1, |i, _| b[i]);
+        chol.solve_in_place(y.as_mut());
+        let err = (0..n).map(|i| (y[(i, 0)] - x[i]).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-12, "solve error {err:e}");
+        // below NESTED_DISSECTION_MIN the factor keeps AMD
+        assert_eq!(SparseCholesky::factor(&a, "grid").unwrap().ordering(), FillOrdering::Amd);
     }
 }

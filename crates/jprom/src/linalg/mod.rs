@@ -1,12 +1,13 @@
 //! Linear algebra shared by the numerical modules: checked dense LU ([`lu`]), sparse matrices
 //! ([`sparse`]), a matrix dense or sparse with one checked LU for both ([`matrix`]), dense
-//! eigen solvers ([`eigen`]), restarted GMRES ([`gmres`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
+//! eigen solvers ([`eigen`]), restarted GMRES ([`gmres`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]) with its fill-reducing ordering ([`ordering`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
 
 pub mod eigen;
 pub mod gmres;
 pub mod lanczos;
 pub mod lu;
 pub mod matrix;
+pub mod ordering;
 pub mod sparse;
 
 pub use lu::{check_nonsingular, lu_checked, lu_solve, mat_vec, product, solve_checked, DenseLu};
