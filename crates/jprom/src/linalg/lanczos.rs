@@ -136,22 +136,27 @@ impl SparseCholesky {
         // the ordering of smaller fill: AMD, or (on graphs large enough to split) a nested
         // dissection (linalg::ordering)
         let amd = symbolic_with(SymmetricOrdering::Amd)?;
-        let symbolic = if nested_dissection && n >= 4 * super::ordering::LEAF {
+        let dissection = if nested_dissection && n >= 4 * super::ordering::LEAF {
             let order = super::ordering::nested_dissection(a.as_ref().symbolic());
-            let mut inv = vec![0usize; n];
+            // its inverse; an order that is not a permutation (it should not happen) is not used
+            let mut inv = vec![usize::MAX; n];
             for (k, &v) in order.iter().enumerate() {
-                inv[v] = k;
+                if v < n && inv[v] == usize::MAX {
+                    inv[v] = k;
+                }
             }
-            let nd = symbolic_with(SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(&order, &inv, n)))?;
-            if nd.len_val() < amd.len_val() {
-                (nd, FillOrdering::NestedDissection)
+            if order.len() == n && inv.iter().all(|&k| k < n) {
+                Some(symbolic_with(SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(&order, &inv, n)))?)
             } else {
-                (amd, FillOrdering::Amd)
+                None
             }
         } else {
-            (amd, FillOrdering::Amd)
+            None
         };
-        let (symbolic, ordering) = symbolic;
+        let (symbolic, ordering) = match dissection {
+            Some(nd) if nd.len_val() < amd.len_val() => (nd, FillOrdering::NestedDissection),
+            _ => (amd, FillOrdering::Amd),
+        };
         let mut values = vec![0.0; symbolic.len_val()];
         {
             let req = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
@@ -820,5 +825,39 @@ mod tests {
         assert!(err < 1e-12, "solve error {err:e}");
         // below NESTED_DISSECTION_MIN the factor keeps AMD
         assert_eq!(SparseCholesky::factor(&a, "grid").unwrap().ordering(), FillOrdering::Amd);
+    }
+
+    /// The nested-dissection factor and its solves give the same bits on every run (its large
+    /// separator supernodes are where faer's kernels run on several threads).
+    #[test]
+    fn nested_dissection_factor_and_solves_are_reproducible() {
+        let g = 26usize;
+        let n = g * g * g;
+        let a = grid(g);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let run = || {
+            pool.install(|| {
+                let chol = SparseCholesky::factor_with(&a, "grid", true).unwrap();
+                assert_eq!(chol.ordering(), FillOrdering::NestedDissection);
+                let mut x = Mat::from_fn(n, 1, |i, _| ((i * 31) % 101) as f64 / 50.0 - 1.0);
+                chol.solve_in_place(x.as_mut());
+                let mut y = Mat::from_fn(n, 40, |i, j| ((i * 31 + j * 17) % 101) as f64 / 50.0 - 1.0);
+                chol.solve_in_place(y.as_mut());
+                (chol.values.clone(), x, y)
+            })
+        };
+        let first = run();
+        for attempt in 0..6 {
+            let again = run();
+            let same_factor = first.0.iter().zip(&again.0).all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same_factor, "attempt {attempt}: the factor differs");
+            for (m, (p, q)) in [(&first.1, &again.1), (&first.2, &again.2)].into_iter().enumerate() {
+                for j in 0..p.ncols() {
+                    for i in 0..n {
+                        assert_eq!(p[(i, j)].to_bits(), q[(i, j)].to_bits(), "attempt {attempt}, solve {m}: entry ({i}, {j})");
+                    }
+                }
+            }
+        }
     }
 }
