@@ -13,7 +13,10 @@
 //! `3 n_modes` that `linalg::lanczos` uses above `LARGE_MODEL_DOFS` (with `2 n_modes` its
 //! modes had not converged after 14 min). 2026-12-03 at 4163e0b (the modes alongside the
 //! boundary blocks, the block buffers reused, the pruned solves): 200k assembly 4.9 s,
-//! CB 45.1 s, 50.2 s in all, 4.7 GB peak.
+//! CB 45.1 s, 50.2 s in all, 4.7 GB peak. 2026-12-04, with the sparse Cholesky ordered by
+//! nested dissection where that fills less than AMD (`linalg::ordering`, from 50,000
+//! unknowns): 200k CB 49.6 -> 39.5 s, peak 4,682 -> 4,179 MB (A/B on this machine, 70f698c
+//! against its successor); 60k 6.7 -> 6.5 s.
 
 mod common;
 

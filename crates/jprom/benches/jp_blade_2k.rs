@@ -102,6 +102,16 @@
 //! [44, 13, 25, 18], e*_1 0.051, FR 0.312 s/point. Refinement 5: 1.1 s [33, 8] (H = 1), 5.7 s
 //! [47, 12, 27, 19] at 432 MB peak (H = 3); refinement 1: [27, 8]. Exponents from 242 to 1,922
 //! contacts: basis 2.4, FR per point 1.0.
+//! Then the sparse Cholesky factor of `K_ii` ordered by nested dissection (`linalg::ordering`:
+//! 151.5 M values against AMD's 203.4 M, numeric factorisation 4.3 s against 8.0 s): the
+//! Craig-Bampton stage 111.0 and 104.0 s in two runs (the same bits both times), against 130.3
+//! and 132.5 s with AMD's ordering on the same machine that evening (167.6 s earlier that day),
+//! peak 4.65-4.78 GB, stuck mode 2150.86 Hz as before. The reduced model's rounding changes:
+//! sizes [32, 10], the same active coordinates, e*_1 0.040, resonances 2146.90 / 2146.69 Hz;
+//! basis 127.4 to 136.0 s over three runs, FR 0.084 to 0.090 s/point; one full-order point
+//! 132.1 and 138.6 s; actual e_1 2.4e-3, tip X1 error 3.1e-4 for both ROMs. The whole H = 1
+//! study in one run (CB 104.0 + basis 127.4 + FR model 1.2 + sweep 17.0 = 249.6 s) is 111
+//! times faster than 200 of that run's full-order points (138.6 s each).
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
