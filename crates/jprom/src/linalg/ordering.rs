@@ -138,21 +138,18 @@ impl Dissection<'_> {
         let t = self.new_tag(&verts);
         // a pseudo-peripheral start: restart from a least-connected vertex of the last level
         // while that makes the search deeper (a few times at most)
-        let mut start = verts[0];
-        let mut levels = self.levels(&verts, start, t);
+        let mut levels = self.levels(&verts, verts[0], t);
         for _ in 0..4 {
             let last = &levels[levels.len() - 1];
             let degree = |v: usize| self.g.neighbours(v).iter().filter(|&&w| self.mark[w] == t).count();
             let Some(&candidate) = last.iter().min_by_key(|&&v| degree(v)) else { break };
             let tried = self.levels(&verts, candidate, t);
             if tried.len() > levels.len() {
-                start = candidate;
                 levels = tried;
             } else {
                 break;
             }
         }
-        let _ = start;
         if levels.len() < 3 {
             self.leaf(&verts, at);
             return;
