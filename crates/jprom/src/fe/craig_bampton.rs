@@ -537,26 +537,12 @@ mod tests {
         let g = 18usize;
         let n = g * g * g;
         let id = |x: usize, y: usize, z: usize| (x * g + y) * g + z;
-        let (mut tk, mut tm, mut tc) = (Vec::new(), Vec::new(), Vec::new());
-        for x in 0..g {
-            for y in 0..g {
-                for z in 0..g {
-                    let i = id(x, y, z);
-                    tk.push((i, i, 6.0 + 0.01 * (i % 7) as f64));
-                    tm.push((i, i, 1.0 + 0.001 * (i % 3) as f64));
-                    tc.push((i, i, 0.02));
-                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
-                        let (a, b, c) = (x + dx, y + dy, z + dz);
-                        if a < g && b < g && c < g {
-                            let j = id(a, b, c);
-                            tk.push((i, j, -1.0));
-                            tk.push((j, i, -1.0));
-                            tm.push((i, j, 0.05));
-                            tm.push((j, i, 0.05));
-                        }
-                    }
-                }
-            }
+        let mut tk: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 6.0 + 0.01 * (i % 7) as f64)).collect();
+        let mut tm: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 1.0 + 0.001 * (i % 3) as f64)).collect();
+        let tc: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 0.02)).collect();
+        for (i, j) in crate::linalg::sparse::grid_edges([g, g, g]) {
+            tk.extend([(i, j, -1.0), (j, i, -1.0)]);
+            tm.extend([(i, j, 0.05), (j, i, 0.05)]);
         }
         let k = sparse_from_triplets(n, n, tk).unwrap();
         let m = sparse_from_triplets(n, n, tm).unwrap();

@@ -688,23 +688,10 @@ mod tests {
     /// A 3D grid Laplacian large enough for supernodes with dense updates (`g^3` unknowns).
     fn grid(g: usize) -> SparseMat {
         let n = g * g * g;
-        let id = |x: usize, y: usize, z: usize| (x * g + y) * g + z;
-        let mut t = Vec::new();
-        for x in 0..g {
-            for y in 0..g {
-                for z in 0..g {
-                    let i = id(x, y, z);
-                    t.push((i, i, 6.0 + 0.01 * (i % 7) as f64));
-                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
-                        let (a, b, c) = (x + dx, y + dy, z + dz);
-                        if a < g && b < g && c < g {
-                            let j = id(a, b, c);
-                            t.push((i, j, -1.0 - 0.001 * (j % 5) as f64));
-                            t.push((j, i, -1.0 - 0.001 * (j % 5) as f64));
-                        }
-                    }
-                }
-            }
+        let mut t: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 6.0 + 0.01 * (i % 7) as f64)).collect();
+        for (i, j) in crate::linalg::sparse::grid_edges([g, g, g]) {
+            let v = -1.0 - 0.001 * (j % 5) as f64;
+            t.extend([(i, j, v), (j, i, v)]);
         }
         sparse_from_triplets(n, n, t).unwrap()
     }

@@ -34,24 +34,48 @@ struct Graph {
 impl Graph {
     fn of(a: SymbolicSparseColMatRef<'_, usize>) -> Graph {
         let n = a.nrows();
-        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for j in 0..n {
-            for &i in a.row_idx_of_col_raw(j) {
-                if i != j && i < n {
-                    lists[i].push(j);
-                    lists[j].push(i);
+        let edges = |visit: &mut dyn FnMut(usize, usize)| {
+            for j in 0..n {
+                for &i in a.row_idx_of_col_raw(j) {
+                    if i != j && i < n {
+                        visit(i, j);
+                    }
                 }
             }
+        };
+        // the lists in one array (an entry and its transpose each give both directions), then
+        // each list sorted and its duplicates squeezed out in place: no vector per vertex
+        let mut first = vec![0usize; n + 1];
+        edges(&mut |i, j| {
+            first[i + 1] += 1;
+            first[j + 1] += 1;
+        });
+        for v in 0..n {
+            first[v + 1] += first[v];
         }
+        let mut adj = vec![0usize; first[n]];
+        let mut next = first.clone();
+        edges(&mut |i, j| {
+            adj[next[i]] = j;
+            next[i] += 1;
+            adj[next[j]] = i;
+            next[j] += 1;
+        });
+        drop(next);
         let mut start = Vec::with_capacity(n + 1);
-        let mut adj = Vec::new();
         start.push(0);
-        for mut l in lists {
-            l.sort_unstable();
-            l.dedup();
-            adj.extend(l);
-            start.push(adj.len());
+        let mut kept = 0;
+        for v in 0..n {
+            adj[first[v]..first[v + 1]].sort_unstable();
+            for k in first[v]..first[v + 1] {
+                if k == first[v] || adj[k] != adj[k - 1] {
+                    adj[kept] = adj[k];
+                    kept += 1;
+                }
+            }
+            start.push(kept);
         }
+        adj.truncate(kept);
         Graph { start, adj }
     }
 
@@ -248,29 +272,16 @@ pub fn nested_dissection(a: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::sparse::sparse_from_triplets;
+    use crate::linalg::sparse::{grid_edges, sparse_from_triplets};
 
     /// The 7-point Laplacian of an `nx x ny x nz` grid.
     fn grid(nx: usize, ny: usize, nz: usize) -> crate::linalg::SparseMat {
-        let id = |x: usize, y: usize, z: usize| x + nx * (y + ny * z);
-        let mut t = Vec::new();
-        for z in 0..nz {
-            for y in 0..ny {
-                for x in 0..nx {
-                    let i = id(x, y, z);
-                    t.push((i, i, 6.5));
-                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
-                        let (x2, y2, z2) = (x + dx, y + dy, z + dz);
-                        if x2 < nx && y2 < ny && z2 < nz {
-                            let j = id(x2, y2, z2);
-                            t.push((i, j, -1.0));
-                            t.push((j, i, -1.0));
-                        }
-                    }
-                }
-            }
+        let n = nx * ny * nz;
+        let mut t: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 6.5)).collect();
+        for (i, j) in grid_edges([nx, ny, nz]) {
+            t.extend([(i, j, -1.0), (j, i, -1.0)]);
         }
-        sparse_from_triplets(nx * ny * nz, nx * ny * nz, t).unwrap()
+        sparse_from_triplets(n, n, t).unwrap()
     }
 
     #[test]

@@ -309,6 +309,28 @@ pub fn first_asymmetry(a: &SparseMat, rel_tol: f64) -> Option<(usize, usize, f64
     })
 }
 
+/// The edges `(i, j)`, `i < j`, of the 7-point stencil of an `nx x ny x nz` grid, the vertex
+/// `(x, y, z)` numbered `(x ny + y) nz + z`: the sparse test models of the factor, the
+/// orderings and the Craig-Bampton reduction.
+#[cfg(test)]
+pub(crate) fn grid_edges([nx, ny, nz]: [usize; 3]) -> Vec<(usize, usize)> {
+    let id = |x: usize, y: usize, z: usize| (x * ny + y) * nz + z;
+    let mut edges = Vec::with_capacity(3 * nx * ny * nz);
+    for x in 0..nx {
+        for y in 0..ny {
+            for z in 0..nz {
+                let i = id(x, y, z);
+                for (a, b, c) in [(x + 1, y, z), (x, y + 1, z), (x, y, z + 1)] {
+                    if a < nx && b < ny && c < nz {
+                        edges.push((i, id(a, b, c)));
+                    }
+                }
+            }
+        }
+    }
+    edges
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
