@@ -291,8 +291,10 @@ fn main() {
     let t = Instant::now();
     let fr_sweep = sweep(&fr, &sopts, &hopts, &mut |_| ControlFlow::Continue(())).expect("FR sweep");
     let t_fr = stage(&format!("FR sweep: {} points", fr_sweep.points.len()), t) / fr_sweep.points.len().max(1) as f64;
-    // NLR condenses onto all (2H + 1) n_w contact coordinates: at H = 3 on 1,922 contacts the
-    // memory budget refuses it (26 GB), and the row says so
+    // NLR projects the condensed system (its static condensation, `n_w` square; the Newton
+    // Jacobian on all (2H + 1) n_w contact coordinates, 26 GB at H = 3 on 1,922 contacts, is
+    // only the full-order point's): a condensed system beyond the budget is refused, and the
+    // row says so
     let t = Instant::now();
     let cond = match CondensedSystem::new(&model, h) {
         Ok(c) => Some(c),

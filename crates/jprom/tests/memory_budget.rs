@@ -2,7 +2,8 @@
 //! estimated beyond it is refused with the estimate and the budget, before anything is
 //! allocated, and the default comes back when it is reset. Covered: file reads, Matrix Market
 //! sizes, and the stages that size dense matrices by the model (contact coordinates, the
-//! condensed system, the JP prediction and one pattern's JP modes, Craig-Bampton).
+//! condensed system, the dense Newton Jacobian of a solve on it and of a study's error checks,
+//! the JP prediction and one pattern's JP modes, Craig-Bampton).
 
 use jprom::condensation::CondensedSystem;
 use jprom::fe::{BladeParams, BuiltinBlade, CbOptions, CraigBampton};
@@ -51,14 +52,35 @@ fn requests_beyond_the_budget_are_refused_with_the_estimate() {
     MemoryBudget::set_global(Some(MemoryBudget::new(coords_need as usize + 1000)));
     let coords = ContactCoordinates::new(&small, 3).unwrap();
     let nw = coords.n_w;
-    let condensed_need = jprom::condensation::working_set_bytes(180, nw, 3);
+    let condensed_need = jprom::condensation::working_set_bytes(180, nw);
     assert!(condensed_need > coords_need + 1000, "{condensed_need} vs {coords_need}");
     let e = CondensedSystem::new(&small, 3).unwrap_err();
     assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == condensed_need), "{e:?}");
     assert!(e.to_string().contains(&format!("the condensed system at H = 3 ({nw} contact coordinates, {} linear DoFs)", 180 - nw)), "{e}");
+    // a condensed system within the budget (what an NLR model projects) whose full-order
+    // solve is not: the solve refuses before its first Newton step, with the Jacobian's size
+    let many = chain_model(&ChainOptions { n_nodes: 60, n_ground: 30, ..ChainOptions::default() });
+    let many_nw = ContactCoordinates::new(&many, 3).unwrap().n_w;
+    let build = jprom::condensation::working_set_bytes(180, many_nw).max(coords_need);
+    let unknowns = 7 * many_nw;
+    let jacobian = jprom::hbm::residual::dense_jacobian_bytes(unknowns);
+    assert_eq!(jacobian, 2 * 8 * (unknowns as u128).pow(2));
+    assert!(jacobian > build + 1000, "{jacobian} vs {build}");
+    MemoryBudget::set_global(Some(MemoryBudget::new(build as usize + 1000)));
+    let condensed = CondensedSystem::new(&many, 3).unwrap();
+    let e = jprom::hbm::solve_point(&condensed, 1.0, None, &jprom::hbm::HbmOptions::default()).unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == jacobian), "{e:?}");
+    assert!(e.to_string().contains(&format!("the dense harmonic-balance Jacobian ({unknowns} unknowns at H = 3)")), "{e}");
+    // a self-correcting study whose error checks would factorise that Jacobian is refused
+    // before its prediction, not left to skip the checks
+    let band = (10.0, 20.0);
+    let study = jprom::rom::adaptive_sweep(&many, 3, &PredictionOptions::new(band), &jprom::hbm::SweepOptions::band(band.0, band.1), &jprom::hbm::HbmOptions::default(), &jprom::rom::AdaptiveOptions::default());
+    let e = study.unwrap_err();
+    assert!(matches!(&e, JpError::TooLarge { bytes, .. } if *bytes == jacobian), "{e:?}");
+    assert!(e.to_string().contains(&format!("the condensed full-order Jacobian of the error checks ({unknowns} unknowns at H = 3)")), "{e}");
+    MemoryBudget::set_global(Some(MemoryBudget::new(coords_need as usize + 1000)));
     let pattern = jprom::jp::modes::pattern_working_set_bytes(180, nw, 3);
     assert!(pattern > coords_need + 1000);
-    let band = (10.0, 20.0);
     let per_pattern = PredictionOptions { factorisation: PatternFactorisation::PerPattern, ..PredictionOptions::new(band) };
     let e = predict_basis(&coords, &per_pattern).unwrap_err();
     assert!(matches!(&e, JpError::TooLarge { .. }), "{e:?}");

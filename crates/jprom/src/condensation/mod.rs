@@ -38,18 +38,19 @@ use crate::model::contact_coordinates::dissipation;
 use crate::model::{ContactCoordinates, Model};
 use faer::{c64, Mat};
 
-/// Estimated bytes of a condensed system of `n` DoFs, `n_w` of them contact coordinates, at
-/// `H = harmonics`, beyond its coordinates: the static `K_LL` and its LU, one harmonic's complex
-/// `D_LL`, its LU and right-hand sides at a frequency, and the Newton Jacobian on
-/// `(2H + 1) n_w` unknowns with its LU.
-pub fn working_set_bytes(n: usize, n_w: usize, harmonics: usize) -> u128 {
+/// Estimated bytes of a condensed system of `n` DoFs, `n_w` of them contact coordinates,
+/// beyond its coordinates: the static `K_LL` and its LU, `H_0` (`n_w` square), and one
+/// harmonic's complex `D_LL`, its LU and right-hand sides at a frequency. Not the Newton
+/// Jacobian on `(2H + 1) n_w` unknowns of a full-order solve on it
+/// ([`crate::hbm::residual::dense_jacobian_bytes`], checked by the solve before its first
+/// step): an NLR model projects the condensed system and never forms it.
+pub fn working_set_bytes(n: usize, n_w: usize) -> u128 {
     use crate::memory::{bytes_of, product};
     let nl = n.saturating_sub(n_w);
-    let unknowns = (2 * harmonics + 1).saturating_mul(n_w);
     bytes_of::<f64>(product(&[2, nl, nl]))
+        .saturating_add(bytes_of::<f64>(product(&[n_w, n_w])))
         .saturating_add(bytes_of::<c64>(product(&[2, nl, nl])))
         .saturating_add(bytes_of::<c64>(product(&[3, nl, n_w + 1])))
-        .saturating_add(bytes_of::<f64>(product(&[2, unknowns, unknowns])))
 }
 
 /// The condensed full-order system on the contact coordinates.
@@ -128,7 +129,7 @@ impl CondensedSystem {
         let hh = coords.discretisation.harmonics;
         crate::memory::check(
             &format!("the condensed system at H = {hh} ({nw} contact coordinates, {} linear DoFs)", n - nw),
-            working_set_bytes(n, nw, hh),
+            working_set_bytes(n, nw),
         )?;
         let nl = n - nw;
         let k = &coords.stiffness;

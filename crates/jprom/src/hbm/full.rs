@@ -111,7 +111,7 @@ impl FullSystem {
             let unknowns = layout.total();
             crate::memory::check(
                 &format!("the dense harmonic-balance Jacobian of the full-order system ({unknowns} unknowns at H = {})", layout.harmonics),
-                crate::memory::bytes_of::<f64>(crate::memory::product(&[2, unknowns, unknowns])),
+                super::residual::dense_jacobian_bytes(unknowns),
             )?;
         }
         Ok(FullSystem { coords, layout, sparse })

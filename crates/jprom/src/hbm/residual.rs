@@ -183,6 +183,13 @@ fn linear_triplets(layout: &HarmonicLayout, lin: &LinearPart, out: &mut Vec<(usi
     }
 }
 
+/// Estimated bytes of a dense Newton Jacobian on `unknowns` unknowns and its LU: what a
+/// harmonic system's Newton iteration allocates (checked before its first step, so a
+/// condensed system too large to solve at full order is refused there, not when built).
+pub fn dense_jacobian_bytes(unknowns: usize) -> u128 {
+    crate::memory::bytes_of::<f64>(crate::memory::product(&[2, unknowns, unknowns]))
+}
+
 /// The linear Jacobian `D` (block-diagonal over harmonics): sparse when the linear part is.
 pub fn linear_jacobian(layout: &HarmonicLayout, lin: &LinearPart) -> Matrix {
     let nt = layout.total();
@@ -429,6 +436,10 @@ pub(crate) fn evaluate_into(
     let nt = layout.total();
     if want_jacobian && !sparse {
         if !matches!(jac, Some(Matrix::Dense(m)) if m.nrows() == nt && m.ncols() == nt) {
+            crate::memory::check(
+                &format!("the dense harmonic-balance Jacobian ({nt} unknowns at H = {})", layout.harmonics),
+                dense_jacobian_bytes(nt),
+            )?;
             *jac = Some(Matrix::Dense(Mat::zeros(nt, nt)));
         }
         let Some(Matrix::Dense(m)) = jac.as_mut() else { unreachable!("set above") };

@@ -535,6 +535,16 @@ fn checkable(coords: &ContactCoordinates) -> bool {
     coords.n_w > 0 && (2 * coords.discretisation.harmonics + 1) * coords.n_w <= MAX_CHECK_UNKNOWNS
 }
 
+/// The memory budget's check of the error checks' condensed full-order Jacobian, before a
+/// study that makes them starts (a check refused later would leave its point unchecked).
+fn check_jacobian_fits(coords: &ContactCoordinates) -> Result<()> {
+    let unknowns = (2 * coords.discretisation.harmonics + 1) * coords.n_w;
+    crate::memory::check(
+        &format!("the condensed full-order Jacobian of the error checks ({unknowns} unknowns at H = {})", coords.discretisation.harmonics),
+        crate::hbm::residual::dense_jacobian_bytes(unknowns),
+    )
+}
+
 /// Predicts a JP basis for `model` discretised by `discretisation` (`H` alone takes the
 /// default `Nt`), sweeps the reduced model over `sopts`' band and corrects the basis while the
 /// worst `e*_1` exceeds `aopts.threshold` (see the module doc). The band of the JP modes is
@@ -574,6 +584,9 @@ pub fn adaptive_sweep_with_progress(
     let discretisation = discretisation.into();
     let coords = ContactCoordinates::new(model, discretisation)?;
     let checkable = checkable(&coords);
+    if aopts.verify && checkable {
+        check_jacobian_fits(&coords)?;
+    }
     let condensed = if aopts.kind == RomKind::Nlr || (aopts.verify && checkable) { Some(CondensedSystem::new(model, discretisation)?) } else { None };
     let initial = predict_basis(&coords, pred)?;
     adaptive_sweep_from(&coords, condensed.as_ref(), initial, pred, sopts, hopts, aopts, on_point)
@@ -605,6 +618,9 @@ pub fn adaptive_sweep_from(
     }
     let checkable = checkable(coords);
     let check_with = if aopts.verify && checkable { condensed } else { None };
+    if check_with.is_some() {
+        check_jacobian_fits(coords)?;
+    }
     let mut popts = pred.clone();
     let mut last = None;
     let (mut basis, mut prediction) = initial;
