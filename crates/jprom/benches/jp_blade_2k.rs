@@ -112,6 +112,23 @@
 //! 132.1 and 138.6 s; actual e_1 2.4e-3, tip X1 error 3.1e-4 for both ROMs. The whole H = 1
 //! study in one run (CB 104.0 + basis 127.4 + FR model 1.2 + sweep 17.0 = 249.6 s) is 111
 //! times faster than 200 of that run's full-order points (138.6 s each).
+//! On 2026-12-05, with the memory budget no longer counting the condensed system's Newton
+//! Jacobian against an NLR model (which projects the condensed system and never forms it), H = 3
+//! at 1,922 contacts (a fresh cache: Craig-Bampton 99.8 s, the same bytes as the day before):
+//! basis 760.6 s (759.3 s in a run timed per stage), peak 10,781 MB, sizes [44, 13, 26, 18];
+//! FR model 1.9 s, 0.221 s/point; **NLR model 7.1 s, 0.195 s/point** (it was refused for 24.3
+//! GiB); e*_1 0.051 for both, resonances 2146.95 (FR) and 2146.90 Hz (NLR), peak tip
+//! amplitudes 0.55 % apart. Per stage (patterns one at a time at H = 3, by the budget): before
+//! the patterns 10.8 s (static solution 2.2, stuck mode and `p̂_max`'s complex solve 8.6), the
+//! reference 14.9 s, then per pattern statics 0 to 9.2 s (31 s in all), the capacitance (its
+//! product and LU; `6 r_l` square, `r_l` 4 to 4,608) 0.1 to 192 s (**530 s in all**), the
+//! Arnoldi 7.8 to 36 s (188 s in all; faer's Krylov-Schur takes at least a 64-vector space, each
+//! vector one solve that reads the reference's and the capacitance's factors). The LUs alone are
+//! about 3.7e13 flops, 460 s at the 80 GFlop/s they run at: with this Arnoldi, 600 s is out of
+//! reach on 2 cores; a block Krylov solve (the solves memory-bound one vector at a time) is the
+//! lever left. H = 1 the same way (two patterns at a time): 118.7 to 123.6 s over three runs;
+//! the reference 12-13 s, per pattern statics up to 17 s, capacitance up to 26 s, Arnoldi 4.5 to
+//! 14 s (63 to 73 s of the two lanes' 199 s).
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
