@@ -10,7 +10,10 @@
 //! has the eigenvectors of (31) and eigenvalues `θ = 1 / (λ - σ)`, so its largest ones are the
 //! eigenvalues of (31) nearest the band. faer's matrix-free Krylov-Schur solver
 //! (`faer::matrix_free::eigen::partial_eigen`, real non-symmetric, eigenvalues of largest
-//! magnitude) finds them; `(K_JC - σ M_JC)` is never inverted, only factorised
+//! magnitude) finds them, or from [`BLOCK_KRYLOV_MIN_DIM`] unknowns block Arnoldi
+//! ([`crate::linalg::block_arnoldi`], [`Krylov`]): there one application of `A` reads
+//! factors of hundreds of MB, and a block of vectors costs about what one vector does;
+//! `(K_JC - σ M_JC)` is never inverted, only factorised
 //! ([`ShiftedSolve`]): either densely, or — the structured form — as a factorisation of the
 //! model itself plus a correction on the contact coordinates,
 //!
@@ -42,6 +45,7 @@ use super::ContactJacobian;
 use crate::error::{JpError, Result};
 use crate::model::ContactCoordinates;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use crate::linalg::block_arnoldi::BlockArnoldiOptions;
 use crate::linalg::gmres::{gmres, GmresOptions};
 use crate::linalg::DenseLu;
 use faer::matrix_free::LinOp;
@@ -51,7 +55,8 @@ use faer::{c64, Mat, MatMut, MatRef, Par};
 /// eigenvectors (`2 H n x m`).
 pub type Eigenpairs = (Vec<(f64, f64)>, Mat<f64>, Mat<f64>);
 
-/// Relative tolerance of the Krylov-Schur residual (on the operator scaled to unit norm).
+/// Relative tolerance of the Krylov-Schur residual (on the operator scaled to unit norm), and of
+/// the block Arnoldi's (relative to its largest Ritz value).
 pub const ARNOLDI_TOLERANCE: f64 = 1e-12;
 /// Largest accepted relative residual `|K_JC v - λ M_JC v| / (|K_JC v| + |λ| |M_JC v| + f)` of a
 /// kept eigenpair, `f` the rounding floor of the products (see `residuals`).
@@ -60,9 +65,32 @@ pub const RESIDUAL_TOLERANCE: f64 = 1e-6;
 pub const INITIAL_REQUEST: usize = 16;
 /// Number of doublings of the request before giving up.
 pub const MAX_DOUBLINGS: usize = 8;
+/// Problems of at least this dimension `2 H n` are solved by block Arnoldi
+/// ([`crate::linalg::block_arnoldi`]): one application of the operator reads the model-sized
+/// factors from memory (about 270 MB at `n` = 5,843), and a block of [`KRYLOV_BLOCK`] vectors
+/// costs about what one does. Below it a solve is cheap and faer's Krylov-Schur is kept.
+pub const BLOCK_KRYLOV_MIN_DIM: usize = 8_000;
+/// Vectors per block of the block Arnoldi.
+pub const KRYLOV_BLOCK: usize = 8;
+/// Smallest cap of the block Arnoldi's space (`8 k` if larger, `k` the request); past it
+/// faer's Krylov-Schur takes over.
+pub const BLOCK_KRYLOV_MAX_DIM: usize = 256;
 
 fn par() -> Par {
     faer::get_global_parallelism()
+}
+
+/// How the Krylov space of the shift-invert eigen solve is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Krylov {
+    /// One vector at a time: faer's Krylov-Schur.
+    Single,
+    /// Blocks of [`KRYLOV_BLOCK`] vectors ([`crate::linalg::block_arnoldi`]); an error if its
+    /// space reaches its cap first.
+    Block,
+    /// Blocks from [`BLOCK_KRYLOV_MIN_DIM`] unknowns (Single if their space reaches its cap
+    /// first), else Single.
+    Auto,
 }
 
 /// How [`ShiftedSolve`] factorises `K_JC - σ M_JC`.
@@ -951,6 +979,16 @@ pub fn problem_eigenpairs(problem: &CondensedProblem<'_>, opts: &ModeOptions, ho
     problem_eigenpairs_upto(problem, opts, how, dim)?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
 }
 
+/// [`problem_eigenpairs`] with the Krylov space built the way `krylov` says.
+///
+/// # Errors
+/// As [`shift_invert_eigenpairs`]; with [`Krylov::Block`], [`JpError::Eigen`] if the block
+/// space reaches its cap before the requested pairs converge.
+pub fn problem_eigenpairs_by(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation, krylov: Krylov) -> Result<Eigenpairs> {
+    let solve = ShiftedSolve::new(problem, problem_shift(problem, opts), how)?;
+    solved_eigenpairs_upto(&solve, opts, problem.dim(), krylov)?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
+}
+
 /// [`shift_invert_eigenpairs`] that requests at most `max_request` eigenpairs: `None` when the
 /// band and its extra pairs need more (a band holding many modes), where the caller solves
 /// densely instead ([`crate::jp::EigenSolver::Auto`] on small problems).
@@ -964,7 +1002,7 @@ pub fn shift_invert_eigenpairs_upto(coords: &ContactCoordinates, k_hat: &Contact
 
 fn problem_eigenpairs_upto(problem: &CondensedProblem<'_>, opts: &ModeOptions, how: ShiftedFactorisation, max_request: usize) -> Result<Option<Eigenpairs>> {
     let solve = ShiftedSolve::new(problem, problem_shift(problem, opts), how)?;
-    solved_eigenpairs_upto(&solve, opts, max_request)
+    solved_eigenpairs_upto(&solve, opts, max_request, Krylov::Auto)
 }
 
 /// The shift of the eigen solve of `problem`: its reference's, else the square of the band
@@ -979,10 +1017,10 @@ pub(crate) fn problem_shift(problem: &CondensedProblem<'_>, opts: &ModeOptions) 
 /// # Errors
 /// As [`shift_invert_eigenpairs`].
 pub(crate) fn solved_eigenpairs(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions) -> Result<Eigenpairs> {
-    solved_eigenpairs_upto(solve, opts, solve.problem.dim())?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
+    solved_eigenpairs_upto(solve, opts, solve.problem.dim(), Krylov::Auto)?.ok_or_else(|| JpError::Eigen { what: "shift-invert Arnoldi of (31): the band is not covered".into() })
 }
 
-fn solved_eigenpairs_upto(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions, max_request: usize) -> Result<Option<Eigenpairs>> {
+fn solved_eigenpairs_upto(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions, max_request: usize, krylov: Krylov) -> Result<Option<Eigenpairs>> {
     let problem = solve.problem;
     let (lo, hi) = opts.band;
     let dim = problem.dim();
@@ -990,35 +1028,77 @@ fn solved_eigenpairs_upto(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions, max_
 
     // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
     // tolerance is relative.
-    let op0 = Operator { solve: &solve, scale: 1.0 };
-    let est = crate::linalg::eigen::operator_norm_estimate(dim, 20, |w, v| op0.apply_to(w, v));
-    if !(est.is_finite() && est > 0.0) {
-        return Err(JpError::Eigen { what: format!("shift-invert operator of (31): norm estimate {est}") });
-    }
-    let op = Operator { solve: &solve, scale: 1.0 / est };
+    let blocks = match krylov {
+        Krylov::Single => false,
+        Krylov::Block => true,
+        Krylov::Auto => dim >= BLOCK_KRYLOV_MIN_DIM,
+    };
+    // Krylov-Schur's tolerance is absolute: it runs on the operator scaled to about unit norm
+    // (a power iteration, 20 solves); the block Arnoldi's is relative to its largest Ritz value,
+    // and it runs on `A` itself (the estimate is made only if it hands over).
+    let norm_estimate = || -> Result<f64> {
+        let op0 = Operator { solve: &solve, scale: 1.0 };
+        let est = crate::linalg::eigen::operator_norm_estimate(dim, 20, |w, v| op0.apply_to(w, v));
+        if !(est.is_finite() && est > 0.0) {
+            return Err(JpError::Eigen { what: format!("shift-invert operator of (31): norm estimate {est}") });
+        }
+        Ok(est)
+    };
+    let mut estimate = if blocks { None } else { Some(norm_estimate()?) };
     let freq = |l: c64| l.re.max(0.0).sqrt();
     let in_band = |f: f64| f >= lo && f <= hi;
 
     let mut k = INITIAL_REQUEST.min(dim);
     let mut attempt = 0;
     let (pairs, keep) = loop {
-        let params = faer::matrix_free::eigen::PartialEigenParams { max_dim: (2 * k).max(64).min(dim), ..Default::default() };
-        let req = faer::matrix_free::eigen::partial_eigen_scratch::<f64>(&op, k, par(), params);
-        let mut mem = MemBuffer::new(req);
-        let mut vecs = Mat::<c64>::zeros(dim, k);
-        let mut vals = vec![c64::new(0.0, 0.0); k];
-        let v0 = faer::Col::<f64>::from_fn(dim, |i| 1.0 + ((i * 104729) % 17) as f64 / 17.0);
-        let info = faer::matrix_free::eigen::partial_eigen(
-            vecs.as_mut(),
-            &mut vals,
-            &op,
-            v0.as_ref(),
-            ARNOLDI_TOLERANCE,
-            par(),
-            MemStack::new(&mut mem),
-            params,
-        );
-        let nconv = info.n_converged_eigen.min(k);
+        // (θ, v) of the operator scaled by 1 / est: by blocks on a large problem (est = 1),
+        // else (or if the blocks' space reaches its cap first) faer's Krylov-Schur
+        let by_blocks = if blocks {
+            let unscaled = Operator { solve: &solve, scale: 1.0 };
+            let cap = (8 * k).max(BLOCK_KRYLOV_MAX_DIM);
+            let found = crate::linalg::block_arnoldi::largest_eigenpairs(dim, k, &BlockArnoldiOptions { block: KRYLOV_BLOCK, max_dim: cap, tolerance: ARNOLDI_TOLERANCE }, |w, v| unscaled.apply_to(w, v));
+            if found.is_none() && krylov == Krylov::Block {
+                return Err(JpError::Eigen { what: format!("block Arnoldi of (31): {k} eigenpairs not converged within a space of {cap}") });
+            }
+            found
+        } else {
+            None
+        };
+        let est = match (&by_blocks, estimate) {
+            (Some(_), _) => 1.0,
+            (None, Some(e)) => e,
+            (None, None) => {
+                let e = norm_estimate()?;
+                estimate = Some(e);
+                e
+            }
+        };
+        let op = Operator { solve: &solve, scale: 1.0 / est };
+        let (vals, vecs): (Vec<c64>, Mat<c64>) = match by_blocks {
+            Some(found) => (found.iter().map(|f| f.0).collect(), Mat::from_fn(dim, found.len(), |i, j| found[j].1[i])),
+            None => {
+                let params = faer::matrix_free::eigen::PartialEigenParams { max_dim: (2 * k).max(64).min(dim), ..Default::default() };
+                let req = faer::matrix_free::eigen::partial_eigen_scratch::<f64>(&op, k, par(), params);
+                let mut mem = MemBuffer::new(req);
+                let mut vecs = Mat::<c64>::zeros(dim, k);
+                let mut vals = vec![c64::new(0.0, 0.0); k];
+                let v0 = faer::Col::<f64>::from_fn(dim, |i| 1.0 + ((i * 104729) % 17) as f64 / 17.0);
+                let info = faer::matrix_free::eigen::partial_eigen(
+                    vecs.as_mut(),
+                    &mut vals,
+                    &op,
+                    v0.as_ref(),
+                    ARNOLDI_TOLERANCE,
+                    par(),
+                    MemStack::new(&mut mem),
+                    params,
+                );
+                let nconv = info.n_converged_eigen.min(k);
+                vals.truncate(nconv);
+                (vals, vecs.as_ref().subcols(0, nconv).to_owned())
+            }
+        };
+        let nconv = vals.len();
         let mut pairs: Vec<Pair> = Vec::with_capacity(nconv);
         // Distance to σ of the farthest converged eigenvalue: all nearer ones are found.
         let mut radius = 0.0f64;

@@ -2,6 +2,7 @@
 //! ([`sparse`]), a matrix dense or sparse with one checked LU for both ([`matrix`]), dense
 //! eigen solvers ([`eigen`]), restarted GMRES ([`gmres`]), sparse Cholesky and shift-invert Lanczos ([`lanczos`]) with its fill-reducing ordering ([`ordering`]), and small dense helpers (serde for faer matrices, symmetry checks, norms).
 
+pub mod block_arnoldi;
 pub mod eigen;
 pub mod gmres;
 pub mod lanczos;
