@@ -2,7 +2,8 @@
 //! kept eigenvalues (1e-8 relative), same per-harmonic spans, same conditioned basis sizes (one
 //! column apart at most, where a singular value lies near the cut), on
 //! the spring-mass chain and the built-in blade, stuck and slipping, H = 1 and H = 3; and the
-//! structured (Woodbury) solve of `K_JC - σ M_JC` against a dense one.
+//! structured (Woodbury) solve of `K_JC - σ M_JC` against a dense one; and the block Arnoldi of
+//! large problems against faer's Krylov-Schur.
 
 use jprom_testkit::chain as jp_support;
 use jprom_testkit::blade as blade_support;
