@@ -125,10 +125,17 @@
 //! Arnoldi 7.8 to 36 s (188 s in all; faer's Krylov-Schur takes at least a 64-vector space, each
 //! vector one solve that reads the reference's and the capacitance's factors). The LUs alone are
 //! about 3.7e13 flops, 460 s at the 80 GFlop/s they run at: with this Arnoldi, 600 s is out of
-//! reach on 2 cores; a block Krylov solve (the solves memory-bound one vector at a time) is the
-//! lever left. H = 1 the same way (two patterns at a time): 118.7 to 123.6 s over three runs;
-//! the reference 12-13 s, per pattern statics up to 17 s, capacitance up to 26 s, Arnoldi 4.5 to
-//! 14 s (63 to 73 s of the two lanes' 199 s).
+//! reach on 2 cores. H = 1 the same way (two patterns at a time): 123.6 s; the reference 12-13
+//! s, per pattern statics up to 17 s, capacitance up to 26 s, Arnoldi 4.5 to 14 s (63 to 73 s of
+//! the two lanes' 199 s). Then the eigen solves of problems from 8,000 unknowns by block
+//! Arnoldi (`linalg::block_arnoldi`, blocks of 8 vectors; converged at 80 vectors on every
+//! pattern, where Krylov-Schur took 150 to 250 one-vector solves, and without the 20-solve
+//! power iteration that scaled the operator): H = 1 basis 99.2 and 100.6 s, the same sizes,
+//! e*_1, resonances and full-order errors (one point 140.6 s, actual e_1 2.4e-3, tip X1 error
+//! 3.1e-4), FR 0.083 s/point; the whole study (CB 99.8 + basis 100.6 + FR model 1.0 + sweep
+//! 16.6 = 218.0 s) 129 times faster than 200 full-order points. H = 3: basis 658.7 s (from
+//! 760), peak 10,762 MB, sizes [44, 13, 26, 18], FR 0.228 and NLR 0.199 s/point, e*_1 0.051,
+//! resonances 2146.95 / 2146.90 Hz. What is left of the 600 s target is the capacitances' LUs.
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact
