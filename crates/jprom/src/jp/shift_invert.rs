@@ -1026,8 +1026,6 @@ fn solved_eigenpairs_upto(solve: &ShiftedSolve<'_, '_>, opts: &ModeOptions, max_
     let dim = problem.dim();
     let sigma = solve.shift;
 
-    // Scale the operator to about unit norm (power iteration) so that the absolute Krylov-Schur
-    // tolerance is relative.
     let blocks = match krylov {
         Krylov::Single => false,
         Krylov::Block => true,
