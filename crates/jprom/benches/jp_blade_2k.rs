@@ -136,6 +136,11 @@
 //! 16.6 = 218.0 s) 129 times faster than 200 full-order points. H = 3: basis 658.7 s (from
 //! 760), peak 10,762 MB, sizes [44, 13, 26, 18], FR 0.228 and NLR 0.199 s/point, e*_1 0.051,
 //! resonances 2146.95 / 2146.90 Hz. What is left of the 600 s target is the capacitances' LUs.
+//! With the capacitances from 12,000 square factorised in single precision and their solves
+//! refined in double (`shift_invert::MIXED_CAPACITANCE_MIN_DIM`; at H = 3 the five patterns
+//! from 3,012 active coordinates, none at H = 1): H = 3 basis 504.4 and 505.7 s, peak 7,840 MB
+//! (was 10,762), sizes [44, 13, 26, 18], FR 0.227 and NLR 0.197 s/point, e*_1 0.051, resonances
+//! 2146.95 / 2146.90 Hz, peak tip amplitudes 0.55 % apart, as in double precision.
 //! (The refinement-15 row measured earlier, at 9b502b9's successors: basis 420 and 493 s, FR
 //! and NLR 0.25 s/point, 8.1 GB.) Exponents `d ln t / d ln n_c` from 242 to 1,922 contacts:
 //! basis 2.5; FR per point 1.0, NLR per point 1.1 (from 18 to 242 about 1, the 18-contact

@@ -129,6 +129,12 @@ fn jacobian_at(coords: &ContactCoordinates, q0: &[f64], phi: &[f64], p: f64) -> 
 /// the band centre and the Jacobian along the stuck mode at the smallest amplitude (factors of
 /// 2) at which a quarter of the contact coordinates are active.
 fn quarter_slipping(blade: &Blade, model: &jprom::model::Model, h: usize) -> (ContactCoordinates, ContactJacobian, ReferenceFactors, ContactJacobian) {
+    slipping_until(blade, model, h, |part, n_w| part.len() * 4 >= n_w)
+}
+
+/// As [`quarter_slipping`], at the smallest amplitude whose active part satisfies `enough`
+/// (given the part and `n_w`).
+fn slipping_until(blade: &Blade, model: &jprom::model::Model, h: usize, enough: impl Fn(&jprom::jp::reference::ActivePart, usize) -> bool) -> (ContactCoordinates, ContactJacobian, ReferenceFactors, ContactJacobian) {
     let coords = ContactCoordinates::new(model, h).unwrap();
     let stuck = ContactJacobian::stuck(&coords.laws, &coords.offsets, coords.n_w, h).unwrap();
     let centre = 0.5 * (blade.band.0 + blade.band.1);
@@ -138,7 +144,7 @@ fn quarter_slipping(blade: &Blade, model: &jprom::model::Model, h: usize) -> (Co
     let mut p = 1e-9;
     let slipping = loop {
         let k = jacobian_at(&coords, &q0, &phi, p);
-        if reference.active_part(&coords, &k).unwrap().len() * 4 >= coords.n_w {
+        if enough(&reference.active_part(&coords, &k).unwrap(), coords.n_w) {
             break k;
         }
         p *= 2.0;
@@ -213,6 +219,62 @@ fn static_corrections_by_gmres_match_the_shift_0_factorisation() {
             eprintln!("H = {h}, {} active, column {j}: GMRES vs direct {diff:.2e}, residual {res:.2e}", part.len());
             assert!(diff < 1e-9, "H = {h}, column {j}: {diff:.3e}");
             assert!(res < 1e-11, "H = {h}, column {j}: residual {res:.3e}");
+        }
+    }
+}
+
+/// The single-precision capacitance with refined solves (`ShiftedFactorisation::WoodburyMixed`,
+/// the path of the large patterns, docs/formulation.md §8.10) on a reference: a pattern with a
+/// quarter of its coordinates active (`Y_h,l` copied) and one with at least half of them leading
+/// (`Y_h,l` read in the reference's `Y_h`), H = 1 and 3. The solves equal the double
+/// capacitance's to 1e-10 with residuals at round-off, and the eigenpairs of (31) by block
+/// Arnoldi are the same (eigenvalues 1e-8 relative, spans 1e-8).
+#[test]
+fn mixed_precision_capacitance_on_a_reference() {
+    use jprom::jp::reference::active_statics;
+    use jprom::jp::shift_invert::{problem_eigenpairs_by, CondensedProblem, Krylov, ShiftedFactorisation, ShiftedSolve};
+    let blade = Blade::build();
+    let model = blade.at_level(blade.alpha_st / 10.0);
+    for h in [1, 3] {
+        let quarter = slipping_until(&blade, &model, h, |part, n_w| part.len() * 4 >= n_w);
+        let half_leading = slipping_until(&blade, &model, h, |part, n_w| part.lead.len() * 2 >= n_w);
+        for (name, (coords, _, reference, slipping)) in [("quarter active", quarter), ("half leading", half_leading)] {
+            let what = format!("H = {h}, {name}");
+            let part = reference.active_part(&coords, &slipping).unwrap();
+            let st = active_statics(&coords, &reference, &part).unwrap();
+            let problem = CondensedProblem::on_reference(&coords, &reference, &part, &st.g_aa);
+            let double = ShiftedSolve::new(&problem, reference.shift(), ShiftedFactorisation::Woodbury).unwrap();
+            let mixed = ShiftedSolve::new(&problem, reference.shift(), ShiftedFactorisation::WoodburyMixed).unwrap();
+            assert!(!double.single_precision_capacitance() && mixed.single_precision_capacitance(), "{what}");
+            let dim = problem.dim();
+            let b = Mat::from_fn(dim, 2, |i, j| if j == 0 { 1.0 + (i % 7) as f64 } else { ((i * 13) % 11) as f64 - 5.0 });
+            let (xd, xm) = (double.solve(b.as_ref()), mixed.solve(b.as_ref()));
+            for j in 0..2 {
+                let diff = (xm.col(j) - xd.col(j)).norm_l2() / xd.col(j).norm_l2();
+                let ax = problem.apply_shifted(xm.as_ref(), reference.shift());
+                let scale = problem.apply_shifted(xm.as_ref(), 0.0).col(j).norm_l2() + reference.shift() * problem.apply_mass(xm.as_ref()).col(j).norm_l2();
+                let res = (ax.col(j) - b.col(j)).norm_l2() / scale;
+                eprintln!("{what} ({} active, {} leading): column {j}: mixed vs double {diff:.1e}, residual {res:.1e}", part.len(), part.lead.len());
+                assert!(diff < 1e-10 && res < 1e-12, "{what}, column {j}: mixed vs double {diff:.2e}, residual {res:.2e}");
+            }
+            let o = ModeOptions { band: blade.band, extra_outside: 2, static_correction: false, solver: EigenSolver::ShiftInvert };
+            let ed = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::Woodbury, Krylov::Block).unwrap();
+            let em = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::WoodburyMixed, Krylov::Block).unwrap();
+            assert_eq!(ed.0.len(), em.0.len(), "{what}: {:?} vs {:?}", ed.0, em.0);
+            for (a, c) in ed.0.iter().zip(&em.0) {
+                assert!((a.0 - c.0).hypot(a.1 - c.1) <= 1e-8 * a.0.hypot(a.1), "{what}: eigenvalue {a:?} vs {c:?}");
+            }
+            let span = |e: &(Vec<(f64, f64)>, Mat<f64>, Mat<f64>)| {
+                let m = e.1.ncols();
+                let a = Mat::from_fn(e.1.nrows(), 2 * m, |i, j| if j < m { e.1[(i, j)] } else { e.2[(i, j - m)] });
+                let svd = a.thin_svd().unwrap();
+                let sv = svd.S().column_vector();
+                let rank = (0..sv.nrows()).filter(|&i| sv[i] > 1e-10 * sv[0]).count();
+                svd.U().subcols(0, rank).to_owned()
+            };
+            let angle = largest_angle_sin(&span(&ed), &span(&em));
+            eprintln!("{what}: {} eigenvalues, largest principal angle {angle:.1e}", ed.0.len());
+            assert!(angle < 1e-8, "{what}: largest principal angle {angle:.2e}");
         }
     }
 }

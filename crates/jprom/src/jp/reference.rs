@@ -72,8 +72,9 @@ pub(crate) fn reads_lead_columns_in_place(r_lead: usize, n_w: usize) -> bool {
 /// `Y_h,l` (`H n r_l`, only when `2 r_l < n_w`: otherwise the reference's `Y_h` are read in
 /// place), `g_aa E_l^T` (`r r_l`), the capacitance's column panels (`2 (2H + 1) r` by
 /// `CAPACITANCE_PANEL`) and
-/// the shifted capacitance factorised in its place (`(2 H r_l)^2`; `S` is applied by its
-/// factors, never formed).
+/// the shifted capacitance factorised in its place (`(2 H r_l)^2`, counted in double
+/// precision even where it is factorised in single: one that fails its probe is formed again in
+/// double, `shift_invert::MIXED_ACCEPT`; `S` is applied by its factors, never formed).
 pub fn active_pattern_working_set_bytes(n: usize, n_w: usize, r: usize, r_lead: usize, harmonics: usize) -> u128 {
     use crate::memory::{bytes_of, product};
     let s = product(&[2 * harmonics, r_lead]);

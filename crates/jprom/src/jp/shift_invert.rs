@@ -76,6 +76,20 @@ pub const KRYLOV_BLOCK: usize = 8;
 /// faer's Krylov-Schur takes over.
 pub const BLOCK_KRYLOV_MAX_DIM: usize = 256;
 
+/// From this order `2 H r_l` on, the Woodbury capacitance is factorised in single precision
+/// and its solves are refined in double (`Capacitance::Mixed`): the LU is `(2/3) N^3` flops
+/// (14 s at `N` = 12,000 on 2 cores, 190 s at 27,648, the 1,922-contact blade's gross-slip
+/// patterns at H = 3) and runs twice as fast in single precision, while each refinement step
+/// reads the single-precision factors once more. Below it the double LU is cheap.
+pub const MIXED_CAPACITANCE_MIN_DIM: usize = 12_000;
+/// Largest contraction of the residual by the first refinement step of a probe right-hand
+/// side (about `cond(C) eps_single`) at which the single-precision capacitance is kept: each
+/// step then gains at least two digits. Otherwise it is factorised again in double precision.
+pub const MIXED_ACCEPT: f64 = 1e-2;
+/// Refinement steps of a mixed-precision capacitance solve at most; it stops earlier when the
+/// residual reaches the rounding floor (`4 eps |b|`) or no longer halves.
+pub const MAX_REFINEMENTS: usize = 10;
+
 fn par() -> Par {
     faer::get_global_parallelism()
 }
@@ -98,8 +112,14 @@ pub enum Krylov {
 pub enum ShiftedFactorisation {
     /// One dense LU of the whole `2 H n` square matrix.
     Dense,
-    /// One LU of `K - σ h^2 M` per harmonic and a dense LU of size `2 H n_w` (Woodbury).
+    /// One LU of `K - σ h^2 M` per harmonic and a dense LU of size `2 H n_w` (Woodbury); the
+    /// latter in single precision with refined solves from [`MIXED_CAPACITANCE_MIN_DIM`]
+    /// ([`ShiftedFactorisation::WoodburyMixed`]), else in double.
     Woodbury,
+    /// Woodbury with the capacitance factorised in single precision and its solves refined in
+    /// double precision (mixed-precision iterative refinement), whatever its size; in double
+    /// if the refinement contracts the residual of a probe by less than [`MIXED_ACCEPT`].
+    WoodburyMixed,
     /// The cheaper of the two by a flop estimate (Woodbury when the contact coordinates are a
     /// small part of the model), Dense if the Woodbury solve turns out inaccurate.
     Auto,
@@ -479,8 +499,114 @@ enum Factors<'a> {
         /// `B_h^-1 E_l^T` (`n x r_l`, the leading coordinates), `h = 1..=H`.
         y: LeadColumns<'a>,
         /// LU of `I + S_l R` (`2 H r_l` square).
-        cap: DenseLu<f64>,
+        cap: Capacitance,
     },
+}
+
+/// The LU of the Woodbury capacitance `C = I + S_l R`: in double precision, or in single
+/// precision with every solve refined in double (`C` applied by its factors,
+/// [`capacitance_times`]): `u_0 = LU^-1 b`, `u_i+1 = u_i + LU^-1 (b - C u_i)` — LAPACK's
+/// `dsgesv` scheme, which reaches the double LU's accuracy when `cond(C)` is well below
+/// `1 / eps_single` (checked on a probe when it is made).
+#[derive(Debug)]
+enum Capacitance {
+    Double(DenseLu<f64>),
+    Mixed(DenseLu<f32>),
+}
+
+/// `I + S_l R`, `R = blockdiag_c(E_r Y_h(c),l)`, by column panels of at most
+/// [`CAPACITANCE_PANEL`] columns (the temporaries — `R`'s panel, `S R`'s and the products
+/// inside — stay small beside the capacitance: at H = 3 whole column blocks took 3 GB beside
+/// its 6 GB on the 1,922-contact blade), each entry stored by `store` (rounded to single
+/// precision for a [`Capacitance::Mixed`]).
+fn capacitance_matrix<T: faer::traits::ComplexField + Copy>(problem: &CondensedProblem<'_>, y: &LeadColumns<'_>, store: impl Fn(f64) -> T) -> Mat<T> {
+    let r = problem.rows.len();
+    let rl = problem.lead.len();
+    let nj = 2 * problem.harmonics;
+    let g_lead = problem.factors.as_ref().map(|f| f.g_lead());
+    let mut cap = Mat::<T>::zeros(nj * rl, nj * rl);
+    for cj in 0..nj {
+        for p0 in (0..rl).step_by(CAPACITANCE_PANEL) {
+            let w = CAPACITANCE_PANEL.min(rl - p0);
+            let rr = Mat::from_fn(r, w, |q, j| y.entry(cj / 2, problem.rows[q], p0 + j));
+            let sr = match (&problem.factors, &g_lead) {
+                (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
+                _ => {
+                    let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
+                    leading_rows(full.as_ref(), r, &problem.lead, nj)
+                }
+            };
+            for j in 0..w {
+                let col = cj * rl + p0 + j;
+                for (i, c) in cap.as_mut().col_mut(col).iter_mut().enumerate() {
+                    *c = store(if i == col { 1.0 + sr[(i, j)] } else { sr[(i, j)] });
+                }
+            }
+        }
+    }
+    cap
+}
+
+/// `C u = u + S_l R u` (`u` of `2 H r_l` rows) from the factors of `C`: per harmonic one
+/// product with `Y_h,l`, and `S` by its factors.
+fn capacitance_times(problem: &CondensedProblem<'_>, y: &LeadColumns<'_>, u: MatRef<'_, f64>) -> Mat<f64> {
+    let r = problem.rows.len();
+    let rl = problem.lead.len();
+    let nj = 2 * problem.harmonics;
+    let k = u.ncols();
+    let mut ru = Mat::<f64>::zeros(nj * r, k);
+    for hi in 0..nj / 2 {
+        let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
+        let yu = y.times(hi, both.as_ref());
+        for half in 0..2 {
+            for j in 0..k {
+                for (a, &i) in problem.rows.iter().enumerate() {
+                    ru[((2 * hi + half) * r + a, j)] = yu[(i, half * k + j)];
+                }
+            }
+        }
+    }
+    let sru = problem.s_times(ru.as_ref());
+    leading_rows(sru.as_ref(), r, &problem.lead, nj) + u
+}
+
+/// `C^-1 b` by the single-precision LU of `C` and refinement in double precision
+/// ([`Capacitance`]), and the contraction of the first refinement step (the largest
+/// `|b_j - C u_j|` after it over the largest before it, relative to `|b_j|`; 0 if the first
+/// solve is at the rounding floor): about `cond(C) eps_single`, the rate at which every step
+/// gains digits until the residual reaches the double LU's floor. Each correction's
+/// right-hand side is scaled to unit size before it is rounded to single precision.
+fn refined_solve(lu: &DenseLu<f32>, problem: &CondensedProblem<'_>, y: &LeadColumns<'_>, b: &Mat<f64>) -> (Mat<f64>, f64) {
+    let k = b.ncols();
+    let single_solve = |rhs: &Mat<f64>| -> Mat<f64> {
+        let scale: Vec<f64> = (0..k).map(|j| rhs.col(j).iter().fold(0.0f64, |a, x| a.max(x.abs()))).map(|m| if m > 0.0 { m } else { 1.0 }).collect();
+        let x = lu.solve(&Mat::<f32>::from_fn(rhs.nrows(), k, |i, j| (rhs[(i, j)] / scale[j]) as f32));
+        Mat::from_fn(rhs.nrows(), k, |i, j| f64::from(x[(i, j)]) * scale[j])
+    };
+    let b_norm: Vec<f64> = (0..k).map(|j| b.col(j).norm_l2()).collect();
+    let relative = |res: &Mat<f64>| (0..k).map(|j| if b_norm[j] > 0.0 { res.col(j).norm_l2() / b_norm[j] } else { res.col(j).norm_l2() }).fold(0.0f64, f64::max);
+    let mut u = single_solve(b);
+    let mut res = b - capacitance_times(problem, y, u.as_ref());
+    let mut rel = relative(&res);
+    let mut first_contraction = None;
+    for _ in 0..MAX_REFINEMENTS {
+        if !(rel > 4.0 * f64::EPSILON) {
+            break;
+        }
+        let next = &u + single_solve(&res);
+        let next_res = b - capacitance_times(problem, y, next.as_ref());
+        let next_rel = relative(&next_res);
+        first_contraction.get_or_insert(next_rel / rel);
+        if !(next_rel < rel) {
+            break;
+        }
+        let halved = next_rel <= 0.5 * rel;
+        (u, res, rel) = (next, next_res, next_rel);
+        if !halved {
+            break;
+        }
+    }
+    (u, first_contraction.unwrap_or(0.0))
 }
 
 /// A factorisation of `K_JC - σ M_JC` and its solve.
@@ -502,11 +628,11 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
     /// a problem on a reference at another shift.
     pub fn new(problem: &'p CondensedProblem<'a>, shift: f64, how: ShiftedFactorisation) -> Result<Self> {
         let n = problem.coords.n_dof;
-        let r = problem.rows.len();
         let rl = problem.lead.len();
         let hh = problem.harmonics;
         let nf = |x: usize| x as f64;
         let how = match (how, problem.reference) {
+            (ShiftedFactorisation::WoodburyMixed, Some(_)) => ShiftedFactorisation::WoodburyMixed,
             (_, Some(_)) => ShiftedFactorisation::Woodbury,
             (ShiftedFactorisation::Auto, None) => {
                 let dense = nf(2 * hh * n).powi(3) * 2.0 / 3.0;
@@ -560,30 +686,21 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     }
                 };
                 let nj = 2 * hh;
-                // I + S_l R, R = blockdiag_c(E_r B_h(c)^-1 E_l^T), S = E_l^T S_l (its leading rows).
-                // Column panels of at most CAPACITANCE_PANEL columns: the temporaries (`R`'s
-                // panel, `S R`'s and the products inside) stay small beside the capacitance
-                // (at H = 3 whole column blocks took 3 GB beside its 6 GB on the 1,922-contact
-                // blade).
-                let g_lead = problem.factors.as_ref().map(|f| f.g_lead());
-                let mut cap = Mat::<f64>::identity(nj * rl, nj * rl);
-                for cj in 0..nj {
-                    for p0 in (0..rl).step_by(CAPACITANCE_PANEL) {
-                        let w = CAPACITANCE_PANEL.min(rl - p0);
-                        let rr = Mat::from_fn(r, w, |q, j| y.entry(cj / 2, problem.rows[q], p0 + j));
-                        let sr = match (&problem.factors, &g_lead) {
-                            (Some(f), Some(g)) => f.lead_column_block_times(g, cj + 1, nj, rr.as_ref()),
-                            _ => {
-                                let full = problem.s.as_ref().submatrix(0, cj * r, nj * r, r) * &rr;
-                                leading_rows(full.as_ref(), r, &problem.lead, nj)
-                            }
-                        };
-                        let mut blk = cap.as_mut().submatrix_mut(0, cj * rl + p0, nj * rl, w);
-                        blk += &sr;
+                let mixed = how == ShiftedFactorisation::WoodburyMixed || (how == ShiftedFactorisation::Woodbury && nj * rl >= MIXED_CAPACITANCE_MIN_DIM);
+                let cap = if mixed {
+                    let lu = DenseLu::from_matrix(capacitance_matrix(problem, &y, |x| x as f32));
+                    let probe = Mat::from_fn(nj * rl, 1, |i, _| 1.0 + ((i * 7919) % 13) as f64 / 13.0);
+                    let pivots_ok = lu.check_pivots(&String::new).is_ok();
+                    if pivots_ok && refined_solve(&lu, problem, &y, &probe).1 <= MIXED_ACCEPT {
+                        Capacitance::Mixed(lu)
+                    } else {
+                        drop(lu);
+                        Capacitance::Double(DenseLu::from_matrix(capacitance_matrix(problem, &y, |x| x)))
                     }
-                }
-                drop(g_lead);
-                Factors::Woodbury { b, y, cap: DenseLu::from_matrix(cap) }
+                } else {
+                    Capacitance::Double(DenseLu::from_matrix(capacitance_matrix(problem, &y, |x| x)))
+                };
+                Factors::Woodbury { b, y, cap }
             }
         };
         let solve = ShiftedSolve { problem, shift, factors };
@@ -604,6 +721,12 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
     /// The shift `σ`.
     pub fn shift(&self) -> f64 {
         self.shift
+    }
+
+    /// Whether the Woodbury capacitance is factorised in single precision (its solves refined
+    /// in double, [`ShiftedFactorisation::WoodburyMixed`]).
+    pub fn single_precision_capacitance(&self) -> bool {
+        matches!(self.factors, Factors::Woodbury { cap: Capacitance::Mixed(_), .. })
     }
 
     /// `K_JC^-1 rhs` (the shift-0 solves of the static corrections) by GMRES on `K_JC`, right
@@ -663,7 +786,10 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                 // u = (I + S_l R)^-1 S_l E_r x0; x = x0 - B^-1 E_l^T u.
                 let sex = self.problem.s_times(gather(x.as_ref(), n, &self.problem.rows, nj).as_ref());
                 let sex_l = leading_rows(sex.as_ref(), r, lead, nj);
-                let u = cap.solve(&sex_l);
+                let u = match cap {
+                    Capacitance::Double(lu) => lu.solve(&sex_l),
+                    Capacitance::Mixed(lu) => refined_solve(lu, self.problem, y, &sex_l).0,
+                };
                 // the cos and sin blocks of a harmonic in one product with its Y_h
                 for hi in 0..nj / 2 {
                     let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);

@@ -165,7 +165,8 @@ pub fn lu_checked<T: Pivot>(a: &Mat<T>, what: &str) -> Result<DenseLu<T>> {
     Ok(lu)
 }
 
-/// The scalars [`lu_checked`] factorises: `f64` and `c64`.
+/// The scalars [`lu_checked`] factorises: `f64` and `c64` (and `f32`, the single-precision
+/// capacitance of the JP shift-invert solves).
 pub trait Pivot: ComplexField {
     /// `|x|`.
     fn modulus(&self) -> f64;
@@ -174,6 +175,12 @@ pub trait Pivot: ComplexField {
 impl Pivot for f64 {
     fn modulus(&self) -> f64 {
         self.abs()
+    }
+}
+
+impl Pivot for f32 {
+    fn modulus(&self) -> f64 {
+        f64::from(self.abs())
     }
 }
 
