@@ -11,7 +11,7 @@ use jprom_testkit::blade as blade_support;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use jp_support::*;
-use jprom::jp::shift_invert::{problem_eigenpairs_by, shift_invert_eigenpairs, CondensedProblem, Krylov, ShiftedFactorisation, ShiftedSolve};
+use jprom::jp::shift_invert::{problem_eigenpairs_by, shift_invert_eigenpairs, CondensedProblem, Eigenpairs, Krylov, ShiftedFactorisation, ShiftedSolve};
 use jprom::jp::{jp_modes, BasisOptions, ContactJacobian, EigenSolver, JpBasis, JpModes, ModeOptions};
 use jprom::model::{ContactCoordinates, Model};
 
@@ -222,6 +222,18 @@ fn blade_stuck_and_slipping() {
 /// block space is an error, so the comparison is with the blocks' own pairs.
 #[test]
 fn block_arnoldi_matches_krylov_schur() {
+    for_each_blade_problem(|what, b, _, problem| {
+        let o = opts(b.band, 2, EigenSolver::ShiftInvert, false);
+        let single = problem_eigenpairs_by(problem, &o, ShiftedFactorisation::Auto, Krylov::Single).unwrap();
+        let block = problem_eigenpairs_by(problem, &o, ShiftedFactorisation::Auto, Krylov::Block).unwrap();
+        let (_, sine) = assert_same_eigenpairs(what, &single, &block);
+        println!("{what}: {} eigenvalues, largest principal angle {sine:.1e}", single.0.len());
+    });
+}
+
+/// The built-in blade's condensed problems (31) stuck (factor 0), slipping (1.5, 5) and in
+/// gross slip (100), at H = 1 and 3: `f(what, blade, factor, problem)`.
+fn for_each_blade_problem(mut f: impl FnMut(&str, &blade_support::Blade, f64, &CondensedProblem<'_>)) {
     let b = blade_support::Blade::build();
     for h in [1, 3] {
         let coords = ContactCoordinates::new(&b.model, h).unwrap();
@@ -229,26 +241,31 @@ fn block_arnoldi_matches_krylov_schur() {
             let k_hat = slipping_jacobian(&coords, h, b.band, factor);
             let g = g_ww(&coords, &k_hat);
             let problem = CondensedProblem::new(&coords, &k_hat, &g).unwrap();
-            let o = opts(b.band, 2, EigenSolver::ShiftInvert, false);
-            let single = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::Auto, Krylov::Single).unwrap();
-            let block = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::Auto, Krylov::Block).unwrap();
-            let what = format!("H = {h}, factor {factor}");
-            assert_eq!(single.0.len(), block.0.len(), "{what}: {:?} vs {:?}", single.0, block.0);
-            for (a, c) in single.0.iter().zip(&block.0) {
-                let d = (a.0 - c.0).hypot(a.1 - c.1);
-                assert!(d <= 1e-8 * a.0.hypot(a.1), "{what}: eigenvalue {a:?} vs {c:?}");
-            }
-            let span = |e: &(Vec<(f64, f64)>, Mat<f64>, Mat<f64>)| {
-                let m = e.1.ncols();
-                orth(&Mat::from_fn(e.1.nrows(), 2 * m, |i, j| if j < m { e.1[(i, j)] } else { e.2[(i, j - m)] }))
-            };
-            let (qs, qb) = (span(&single), span(&block));
-            assert_eq!(qs.ncols(), qb.ncols(), "{what}: span dimensions");
-            let sine = (&qb - &qs * (qs.transpose() * &qb)).thin_svd().unwrap().S().column_vector().iter().fold(0.0f64, |a, &x| a.max(x));
-            println!("{what}: {} eigenvalues, span of dimension {}, largest principal angle {sine:.1e}", single.0.len(), qs.ncols());
-            assert!(sine < 1e-8, "{what}: largest principal angle {sine:.2e}");
+            f(&format!("H = {h}, factor {factor}"), &b, factor, &problem);
         }
     }
+}
+
+/// Asserts that two solves of (31) kept the same eigenvalues (1e-8 relative) and the same span
+/// of eigenvectors (sine of the largest principal angle below 1e-8); returns the largest
+/// relative eigenvalue difference and that sine.
+fn assert_same_eigenpairs(what: &str, a: &Eigenpairs, b: &Eigenpairs) -> (f64, f64) {
+    assert_eq!(a.0.len(), b.0.len(), "{what}: {:?} vs {:?}", a.0, b.0);
+    let mut worst = 0.0f64;
+    for (x, y) in a.0.iter().zip(&b.0) {
+        let d = (x.0 - y.0).hypot(x.1 - y.1) / x.0.hypot(x.1);
+        worst = worst.max(d);
+        assert!(d <= 1e-8, "{what}: eigenvalue {x:?} vs {y:?}");
+    }
+    let span = |e: &Eigenpairs| {
+        let m = e.1.ncols();
+        orth(&Mat::from_fn(e.1.nrows(), 2 * m, |i, j| if j < m { e.1[(i, j)] } else { e.2[(i, j - m)] }))
+    };
+    let (qa, qb) = (span(a), span(b));
+    assert_eq!(qa.ncols(), qb.ncols(), "{what}: span dimensions");
+    let sine = (&qb - &qa * (qa.transpose() * &qb)).thin_svd().unwrap().S().column_vector().iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(sine < 1e-8, "{what}: largest principal angle {sine:.2e}");
+    (worst, sine)
 }
 
 /// The Woodbury capacitance in single precision with refined solves
@@ -261,50 +278,28 @@ fn block_arnoldi_matches_krylov_schur() {
 /// and the solve stays exact.
 #[test]
 fn mixed_precision_capacitance_matches_double() {
-    let b = blade_support::Blade::build();
-    for h in [1, 3] {
-        let coords = ContactCoordinates::new(&b.model, h).unwrap();
-        for factor in [0.0, 1.5, 5.0, 100.0] {
-            let k_hat = slipping_jacobian(&coords, h, b.band, factor);
-            let g = g_ww(&coords, &k_hat);
-            let problem = CondensedProblem::new(&coords, &k_hat, &g).unwrap();
-            let o = opts(b.band, 2, EigenSolver::ShiftInvert, false);
-            let what = format!("H = {h}, factor {factor}");
-            let sigma = (0.5 * (b.band.0 + b.band.1)).powi(2);
-            assert!(ShiftedSolve::new(&problem, sigma, ShiftedFactorisation::WoodburyMixed).unwrap().single_precision_capacitance(), "{what}: the single-precision capacitance was refused");
-            let double = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::Woodbury, Krylov::Block).unwrap();
-            let mixed = problem_eigenpairs_by(&problem, &o, ShiftedFactorisation::WoodburyMixed, Krylov::Block).unwrap();
-            assert_eq!(double.0.len(), mixed.0.len(), "{what}: {:?} vs {:?}", double.0, mixed.0);
-            let mut worst = 0.0f64;
-            for (a, c) in double.0.iter().zip(&mixed.0) {
-                let d = (a.0 - c.0).hypot(a.1 - c.1) / a.0.hypot(a.1);
-                worst = worst.max(d);
-                assert!(d <= 1e-8, "{what}: eigenvalue {a:?} vs {c:?}");
-            }
-            let span = |e: &(Vec<(f64, f64)>, Mat<f64>, Mat<f64>)| {
-                let m = e.1.ncols();
-                orth(&Mat::from_fn(e.1.nrows(), 2 * m, |i, j| if j < m { e.1[(i, j)] } else { e.2[(i, j - m)] }))
-            };
-            let (qd, qm) = (span(&double), span(&mixed));
-            assert_eq!(qd.ncols(), qm.ncols(), "{what}: span dimensions");
-            let sine = (&qm - &qd * (qd.transpose() * &qm)).thin_svd().unwrap().S().column_vector().iter().fold(0.0f64, |a, &x| a.max(x));
-            println!("{what}: {} eigenvalues (largest relative difference {worst:.1e}), largest principal angle {sine:.1e}", double.0.len());
-            assert!(sine < 1e-8, "{what}: largest principal angle {sine:.2e}");
-            if factor == 0.0 {
-                // stuck: real eigenvalues; a shift next to one
-                let lambda = double.0[0].0;
-                let near = lambda * (1.0 + 1e-9);
-                let s = ShiftedSolve::new(&problem, near, ShiftedFactorisation::WoodburyMixed).unwrap();
-                assert!(!s.single_precision_capacitance(), "{what}: shift 1e-9 from the eigenvalue {lambda}: the single-precision capacitance was kept");
-                let dim = problem.dim();
-                let rhs = Mat::from_fn(dim, 1, |i, _| ((i * 37) % 19) as f64 / 19.0 - 0.5);
-                let x = s.solve(rhs.as_ref());
-                let res = (problem.apply_shifted(x.as_ref(), near) - &rhs).norm_l2() / (problem.apply_shifted(x.as_ref(), 0.0).norm_l2() + near * problem.apply_mass(x.as_ref()).norm_l2());
-                println!("{what}: shift next to {lambda:.6e}: capacitance in double, relative residual {res:.1e}");
-                assert!(res < 1e-13, "{what}: near-singular solve, residual {res:.2e}");
-            }
+    for_each_blade_problem(|what, b, factor, problem| {
+        let o = opts(b.band, 2, EigenSolver::ShiftInvert, false);
+        let sigma = (0.5 * (b.band.0 + b.band.1)).powi(2);
+        assert!(ShiftedSolve::new(problem, sigma, ShiftedFactorisation::WoodburyMixed).unwrap().single_precision_capacitance(), "{what}: the single-precision capacitance was refused");
+        let double = problem_eigenpairs_by(problem, &o, ShiftedFactorisation::Woodbury, Krylov::Block).unwrap();
+        let mixed = problem_eigenpairs_by(problem, &o, ShiftedFactorisation::WoodburyMixed, Krylov::Block).unwrap();
+        let (worst, sine) = assert_same_eigenpairs(what, &double, &mixed);
+        println!("{what}: {} eigenvalues (largest relative difference {worst:.1e}), largest principal angle {sine:.1e}", double.0.len());
+        if factor == 0.0 {
+            // stuck: real eigenvalues; a shift next to one
+            let lambda = double.0[0].0;
+            let near = lambda * (1.0 + 1e-9);
+            let s = ShiftedSolve::new(problem, near, ShiftedFactorisation::WoodburyMixed).unwrap();
+            assert!(!s.single_precision_capacitance(), "{what}: shift 1e-9 from the eigenvalue {lambda}: the single-precision capacitance was kept");
+            let dim = problem.dim();
+            let rhs = Mat::from_fn(dim, 1, |i, _| ((i * 37) % 19) as f64 / 19.0 - 0.5);
+            let x = s.solve(rhs.as_ref());
+            let res = (problem.apply_shifted(x.as_ref(), near) - &rhs).norm_l2() / (problem.apply_shifted(x.as_ref(), 0.0).norm_l2() + near * problem.apply_mass(x.as_ref()).norm_l2());
+            println!("{what}: shift next to {lambda:.6e}: capacitance in double, relative residual {res:.1e}");
+            assert!(res < 1e-13, "{what}: near-singular solve, residual {res:.2e}");
         }
-    }
+    });
 }
 
 /// `g_ww = (K + K̂_00)^-1 |_ww`.
