@@ -537,9 +537,10 @@ fn dense_eigenpairs(coords: &ContactCoordinates, mut kjc: Mat<f64>, hh: usize, o
     Ok((eigenvalues, v_re, v_im))
 }
 
-/// Largest `2 H n` at which the eigenvectors of (31) are polished ([`polished`]): one complex
-/// LU of that order per kept eigenpair, about what the dense eigen solve itself costs there
-/// (the 18-contact blade, `2 H n` 300 at H = 1 and 900 at H = 3).
+/// Largest `2 H n` at which the eigenvectors of (31) are polished ([`polished`]): one LU of
+/// that order per distinct kept eigenvalue, about what the eigen solve itself costs there (the
+/// 18-contact blade is at 262 for H = 1 and 786 for H = 3; the refinement-5 blade, above it,
+/// agrees between paths to 3.2e-9 unpolished).
 pub const POLISH_MAX_DIM: usize = 1200;
 
 /// The eigenvectors of (31) after one step of inverse iteration at their own eigenvalue,
@@ -552,8 +553,8 @@ pub const POLISH_MAX_DIM: usize = 1200;
 /// solver found it (dense QR, Krylov-Schur or block Arnoldi, to their own tolerances). The
 /// columns (33) are parts of the eigenvectors scaled to unit length, and a part of 1e-4 of its
 /// eigenvector magnifies the eigenvector's error 1e4 times: on the 18-contact blade the bases
-/// of the three solvers differed by up to 5e-7 (largest principal angle) before this step, and
-/// by 6e-10 after it (`tests/jp_reference.rs`). One LU serves the eigenvalues equal to 1e-10
+/// of the three paths differed by up to 4.9e-7 (largest principal angle) before this step, and
+/// by 2.4e-10 after it (`tests/jp_reference.rs`). One LU serves the eigenvalues equal to 1e-10
 /// (a stuck pair `v`, `J v`) and their conjugates (`A(conj λ) = conj A(λ)`); it is real where
 /// the eigenvalue is ([`DEGENERATE_IMAG`]). A vector whose step is not finite (an eigenvalue
 /// exact to the last bit makes the matrix singular) is kept as it was.
