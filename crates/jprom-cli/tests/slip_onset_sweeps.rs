@@ -21,8 +21,11 @@ fn check(report: &LevelReport, tag: &str) {
         // leaves nothing to compare (`compared_somewhere` checks that some level does)
         assert!(r.compared > 0 || r.max_e1 <= 1e-6, "{tag} level {}: no point compared, largest e_1 {:.2e}", report.level, r.max_e1);
         assert!(r.not_conservative.is_empty(), "{tag} level {}: {:?} e*_1 < e_1 at (omega, e*, e) {:?}", report.level, r.kind, r.not_conservative);
-        // the judged error is the actual one (largest e_1 over the points) to first order
-        assert!(r.worst_error <= 1.1 * r.max_e1 + 1e-9 && r.worst_error >= 0.5 * r.max_e1, "{tag}: judged {:.3e} vs largest e_1 {:.3e}", r.worst_error, r.max_e1);
+        // the judged error is the actual one (largest e_1 over the points) to first order; where
+        // e_1 is below the floor of the e* comparison (1e-6) it is the full-order solve's own
+        // tolerance (the H = 3 NLR at gross slip: e_1 1.1e-8, X1 exact to 2.5e-12), and the
+        // judged error may be smaller still
+        assert!(r.worst_error <= 1.1 * r.max_e1 + 1e-9 && (r.max_e1 <= 1e-6 || r.worst_error >= 0.5 * r.max_e1), "{tag}: judged {:.3e} vs largest e_1 {:.3e}", r.worst_error, r.max_e1);
     }
 }
 
