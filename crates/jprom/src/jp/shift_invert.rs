@@ -472,6 +472,19 @@ impl LeadColumns<'_> {
         }
     }
 
+    /// `Y_h(c),l u_c` for every coefficient block `c` of `u` (`2 H` blocks of `r_l` rows), the
+    /// cos and sin blocks of a harmonic in one product with its `Y_h`: per harmonic
+    /// `h = hi + 1` an `n x 2k` matrix, the cos block's columns first.
+    fn times_coefficients(&self, u: MatRef<'_, f64>, rl: usize, harmonics: usize) -> Vec<Mat<f64>> {
+        let k = u.ncols();
+        (0..harmonics)
+            .map(|hi| {
+                let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
+                self.times(hi, both.as_ref())
+            })
+            .collect()
+    }
+
     /// `Y_h,l u` (`u` with `r_l` rows), `h = hi + 1`.
     fn times(&self, hi: usize, u: MatRef<'_, f64>) -> Mat<f64> {
         match self {
@@ -555,9 +568,7 @@ fn capacitance_times(problem: &CondensedProblem<'_>, y: &LeadColumns<'_>, u: Mat
     let nj = 2 * problem.harmonics;
     let k = u.ncols();
     let mut ru = Mat::<f64>::zeros(nj * r, k);
-    for hi in 0..nj / 2 {
-        let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
-        let yu = y.times(hi, both.as_ref());
+    for (hi, yu) in y.times_coefficients(u, rl, nj / 2).iter().enumerate() {
         for half in 0..2 {
             for j in 0..k {
                 for (a, &i) in problem.rows.iter().enumerate() {
@@ -790,10 +801,7 @@ impl<'p, 'a> ShiftedSolve<'p, 'a> {
                     Capacitance::Double(lu) => lu.solve(&sex_l),
                     Capacitance::Mixed(lu) => refined_solve(lu, self.problem, y, &sex_l).0,
                 };
-                // the cos and sin blocks of a harmonic in one product with its Y_h
-                for hi in 0..nj / 2 {
-                    let both = Mat::from_fn(rl, 2 * k, |q, j| u[((2 * hi + j / k) * rl + q, j % k)]);
-                    let corr = y.times(hi, both.as_ref());
+                for (hi, corr) in y.times_coefficients(u.as_ref(), rl, nj / 2).iter().enumerate() {
                     for half in 0..2 {
                         let mut xc = x.as_mut().submatrix_mut((2 * hi + half) * n, 0, n, k);
                         xc -= corr.as_ref().subcols(half * k, k);
