@@ -150,6 +150,26 @@ impl<T: Pivot> DenseLu<T> {
     }
 }
 
+impl DenseLu<f64> {
+    /// The sign of `det A` (`+1` or `-1`; `0` for an exactly zero pivot): the parity of the
+    /// row permutation times the signs of `U`'s diagonal (`L` is unit lower).
+    pub(crate) fn determinant_sign(&self) -> f64 {
+        let n = self.order();
+        let mut sign = permutation_parity(&self.perm);
+        for i in 0..n {
+            let d = &self.lu[(i, i)];
+            if *d == 0.0 {
+                return 0.0;
+            }
+            if *d < 0.0 {
+                sign = -sign;
+            }
+        }
+        sign
+    }
+
+}
+
 /// Factorises `a` by LU with partial pivoting and rejects (numerically) singular matrices:
 /// any pivot below `100 n eps` times the largest, or a non-finite pivot. Real (`f64`) or
 /// complex (`c64`).
@@ -298,5 +318,27 @@ mod tests {
             let r = product(a.as_ref(), product(y.as_ref(), v.as_ref()).as_ref()) - product(b.as_ref(), v.as_ref());
             assert!(r.norm_l2() > 1e-3, "column {bad}: {}", r.norm_l2());
         }
+    }
+}
+
+/// `+1` for an even permutation, `-1` for an odd one (`n` minus the number of cycles is the
+/// number of transpositions).
+pub(crate) fn permutation_parity(perm: &[usize]) -> f64 {
+    let mut seen = vec![false; perm.len()];
+    let mut transpositions = 0usize;
+    for start in 0..perm.len() {
+        let mut i = start;
+        let mut length = 0usize;
+        while !seen[i] {
+            seen[i] = true;
+            i = perm[i];
+            length += 1;
+        }
+        transpositions += length.saturating_sub(1);
+    }
+    if transpositions % 2 == 0 {
+        1.0
+    } else {
+        -1.0
     }
 }

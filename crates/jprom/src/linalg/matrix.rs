@@ -244,6 +244,39 @@ impl Matrix {
         Ok(())
     }
 
+    /// Overwrites the last row of a matrix made by [`Matrix::bordered`] (its border row,
+    /// stored whole in either storage).
+    ///
+    /// # Errors
+    /// [`JpError::BadSize`] if `row` is not as long as the matrix is wide.
+    pub fn set_border_row(&mut self, row: &[f64]) -> Result<()> {
+        let n1 = self.nrows();
+        if self.ncols() != n1 || row.len() != n1 || n1 == 0 {
+            return Err(JpError::bad_size("bordered matrix border row", n1, row.len()));
+        }
+        match self {
+            Matrix::Dense(b) => {
+                for (j, &v) in row.iter().enumerate() {
+                    b[(n1 - 1, j)] = v;
+                }
+            }
+            Matrix::Sparse(b) => {
+                // bordered_into stores the border row as the last entry of every column
+                let cp = b.as_ref().symbolic().col_ptr().to_vec();
+                let ri = b.as_ref().symbolic().row_idx().to_vec();
+                let v = b.val_mut();
+                for j in 0..n1 {
+                    let last = cp[j + 1] - 1;
+                    if cp[j + 1] == cp[j] || ri[last] != n1 - 1 {
+                        return Err(JpError::invalid("bordered matrix", format!("column {j} does not end in the border row")));
+                    }
+                    v[last] = row[j];
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Dense copy.
     pub fn to_dense(&self) -> Mat<f64> {
         match self {
@@ -469,6 +502,16 @@ impl MatrixLu {
         }
     }
 
+    /// The sign of `det a` of the latest factorisation (the equilibration's scalings are
+    /// positive and do not change it): `Some(+1.0)` or `Some(-1.0)` for dense factors, `None`
+    /// for sparse ones (faer's supernodal factors do not expose `U`'s diagonal).
+    pub fn determinant_sign(&self) -> Option<f64> {
+        match self.factors.as_ref()? {
+            Factors::Dense(f) => Some(f.lu.determinant_sign()),
+            Factors::Sparse(_) => None,
+        }
+    }
+
     /// Solves `a x = rhs`.
     pub fn solve(&mut self, rhs: &[f64]) -> Vec<f64> {
         let mut x = vec![0.0; rhs.len()];
@@ -526,6 +569,37 @@ mod tests {
         lu.factor(&Matrix::Dense(b2.clone()), || "dense again".into()).unwrap();
         let x2 = lu.solve(&rhs);
         assert!(diff(&Matrix::Dense(b2).mat_vec(&x2), &rhs) < 1e-12);
+    }
+
+    /// The determinant's sign against a product of known signs: a diagonal matrix with
+    /// negative entries, permuted rows (each transposition flips the sign), and a rotation.
+    #[test]
+    fn determinant_signs_follow_the_permutations_and_pivots() {
+        let sign_of = |m: Mat<f64>| MatrixLu::new(&Matrix::Dense(m), "test").unwrap().determinant_sign().unwrap();
+        let diag = |d: &[f64]| Mat::from_fn(d.len(), d.len(), |i, j| if i == j { d[i] } else { 0.0 });
+        assert_eq!(sign_of(diag(&[1.0, 2.0, 3.0])), 1.0);
+        assert_eq!(sign_of(diag(&[1.0, -2.0, 3.0])), -1.0);
+        assert_eq!(sign_of(diag(&[-1.0, -2.0, 3.0])), 1.0);
+        // rows 0 and 2 swapped: one transposition
+        let p = Mat::from_fn(3, 3, |i, j| if (i == 0 && j == 2) || (i == 2 && j == 0) || (i == 1 && j == 1) { 1.0 } else { 0.0 });
+        assert_eq!(sign_of(p.clone()), -1.0);
+        // a 3-cycle is even
+        let c = Mat::from_fn(3, 3, |i, j| if j == (i + 1) % 3 { 1.0 } else { 0.0 });
+        assert_eq!(sign_of(c), 1.0);
+        // random matrices against the sign of faer's determinant
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        for n in [2, 5, 17, 40] {
+            for _ in 0..5 {
+                let m = Mat::from_fn(n, n, |_, _| next());
+                let det = m.determinant();
+                assert_eq!(sign_of(m), det.signum(), "n = {n}, det = {det:e}");
+            }
+        }
+        assert_eq!(MatrixLu::new(&Matrix::Sparse(tridiagonal(5, 3.0).1), "sparse").unwrap().determinant_sign(), None);
     }
 
     #[test]
