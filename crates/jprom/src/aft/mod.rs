@@ -17,6 +17,7 @@
 
 mod discretisation;
 mod fourier;
+mod period;
 
 pub use discretisation::{default_nt, Discretisation};
 pub use fourier::{AftBackend, TABLES_MAX_H};
@@ -449,65 +450,16 @@ impl AftPlan {
         // linear.
         let last = nt - 1;
         let c0 = p.correct([kt[0] * u1[last], kt[1] * u2[last]], normal[last]);
-        let mut t_start = c0.force;
         if want_jac {
             let y = &mut g_tmp[..nm];
             y.fill(0.0);
             let bl = &basis[last * nc..(last + 1) * nc];
-            add_elastic::<L>(y, kt, bl, None, n);
-            slip_map::<L>(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, y, &mut g_start[..nm], n);
+            period::add_elastic::<L>(y, kt, bl, None, n);
+            period::slip_map::<L>(&c0.d_predictor, &c0.d_normal, d_normal[last], bl, y, &mut g_start[..nm], n);
         }
-
-        let mut dissipated = 0.0;
-        for pass in 0..MAX_PASSES {
-            let mut t_prev = t_start;
-            let mut scale = norm2(t_start);
-            dissipated = 0.0;
-            for j in 0..nt {
-                let jm = if j == 0 { nt - 1 } else { j - 1 };
-                let ts = p.predictor(t_prev, [u1[j] - u1[jm], u2[j] - u2[jm]]);
-                let c = p.correct(ts, normal[j]);
-                tangential[j] = c.force[0];
-                if m == 2 {
-                    tangential[nt + j] = c.force[1];
-                }
-                states[j] = c.state;
-                if c.state == ContactState::Slip {
-                    dissipated += p.slip_work(ts, c.force);
-                }
-                t_prev = c.force;
-                scale = scale.max(norm2(c.force));
-                if want_jac {
-                    // dT_j/dw from dT_{j-1}/dw (chain rule through the sample, §3).
-                    let (before, after) = g.split_at_mut(j * nm);
-                    let prev: &[f64] = if j == 0 { &g_start[..nm] } else { &before[(j - 1) * nm..] };
-                    let out = &mut after[..nm];
-                    let bj = &basis[j * nc..(j + 1) * nc];
-                    let bm = &basis[jm * nc..(jm + 1) * nc];
-                    match c.state {
-                        ContactState::Separated => out.fill(0.0),
-                        ContactState::Stick => {
-                            out.copy_from_slice(prev);
-                            add_elastic::<L>(out, kt, bj, Some(bm), n);
-                        }
-                        ContactState::Slip => {
-                            let y = &mut g_tmp[..nm];
-                            y.copy_from_slice(prev);
-                            add_elastic::<L>(y, kt, bj, Some(bm), n);
-                            slip_map::<L>(&c.d_predictor, &c.d_normal, d_normal[j], bj, y, out, n);
-                        }
-                    }
-                }
-            }
-            let diff = norm2([t_prev[0] - t_start[0], t_prev[1] - t_start[1]]);
-            if diff <= PERIODIC_TOLERANCE * scale || pass + 1 == MAX_PASSES {
-                break;
-            }
-            t_start = t_prev;
-            if want_jac {
-                g_start[..nm].copy_from_slice(&g[(nt - 1) * nm..nt * nm]);
-            }
-        }
+        let samples = period::Samples { u1, u2, normal: &normal[..nt], d_normal: &d_normal[..nt], basis, nc, n };
+        let g_bufs = if want_jac { Some((&mut g[..], &mut g_start[..], &mut g_tmp[..])) } else { None };
+        let dissipated = period::steady_state(p, &samples, c0, period::SteadyOut { tangential, states, g: g_bufs });
 
         // Forward DFT of the forces.
         let (t1, t2) = tangential.split_at(nt);
@@ -619,52 +571,6 @@ impl AftPlan {
             }
         }
     }
-}
-
-/// `y[r n + k d + r] += kt_r (b_k - b_prev_k)`: the predictor's derivative
-/// `Kt d(u(t_j) - u(t_{j-1}))/dw` added to `y` (`b_prev` absent: `Kt du(t_j)/dw`).
-#[inline]
-fn add_elastic<L: SampleLaw>(y: &mut [f64], kt: [f64; 2], b: &[f64], b_prev: Option<&[f64]>, n: usize) {
-    let m = L::TANGENTIAL;
-    let d = m + usize::from(L::HAS_NORMAL);
-    for (k, &bk) in b.iter().enumerate() {
-        let db = match b_prev {
-            Some(bp) => bk - bp[k],
-            None => bk,
-        };
-        for r in 0..m {
-            y[r * n + k * d + r] += kt[r] * db;
-        }
-    }
-}
-
-/// `out = A y + dT/dN (dN/dv b_j)` on the normal columns: the derivative through one corrector,
-/// `y = dT*/dw` (`m x n`, row-major), `A = dT/dT*`.
-#[inline]
-fn slip_map<L: SampleLaw>(a: &[[f64; 2]; 2], dt_dn: &[f64; 2], dn_dv: f64, bj: &[f64], y: &[f64], out: &mut [f64], n: usize) {
-    let m = L::TANGENTIAL;
-    let d = m + usize::from(L::HAS_NORMAL);
-    for r in 0..m {
-        let o = &mut out[r * n..(r + 1) * n];
-        for (c, oc) in o.iter_mut().enumerate() {
-            *oc = (0..m).map(|s| a[r][s] * y[s * n + c]).sum();
-        }
-    }
-    if L::HAS_NORMAL && dn_dv != 0.0 {
-        for r in 0..m {
-            if dt_dn[r] == 0.0 {
-                continue;
-            }
-            for (k, &b) in bj.iter().enumerate() {
-                out[r * n + k * d + m] += dt_dn[r] * dn_dv * b;
-            }
-        }
-    }
-}
-
-#[inline]
-fn norm2(t: [f64; 2]) -> f64 {
-    (t[0] * t[0] + t[1] * t[1]).sqrt()
 }
 
 /// Forces, Jacobian blocks and cycle reports of all contacts of a system.
