@@ -19,7 +19,9 @@ pub enum JpError {
     SingularMatrix { what: String },
 
     /// An iterative solver stopped without meeting its tolerance.
-    #[error("no convergence in {what} after {iterations} iterations (residual {residual:.3e})")]
+    /// `iterations` 0 and a non-finite `residual` where the step that failed was not an
+    /// iteration (a point refused by the continuation): the message then says neither.
+    #[error("no convergence in {what}{}", convergence_tail(*iterations, *residual))]
     NoConvergence { what: String, iterations: usize, residual: f64 },
 
     /// Reading or writing a file failed, or a file is malformed.
@@ -54,6 +56,19 @@ pub enum JpError {
     /// the AFT. `element` names it ("element 3").
     #[error("{element}: {reason} at sample {sample}")]
     Callback { element: String, sample: usize, reason: String },
+}
+
+/// `" after N iterations (residual r)"`, without the parts that are not known: no NaN and no
+/// "after 0 iterations" in a message.
+fn convergence_tail(iterations: usize, residual: f64) -> String {
+    let mut tail = String::new();
+    if iterations > 0 {
+        tail += &format!(" after {iterations} iterations");
+    }
+    if residual.is_finite() {
+        tail += &format!(" (residual {residual:.3e})");
+    }
+    tail
 }
 
 fn at_line(line: usize) -> String {
@@ -107,5 +122,19 @@ pub fn human_bytes(bytes: u128) -> String {
         format!("{bytes} bytes")
     } else {
         format!("{v:.1} {} ({bytes} bytes)", UNITS[u])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::JpError;
+
+    #[test]
+    fn a_convergence_message_says_only_what_it_knows() {
+        let e = |iterations, residual| JpError::NoConvergence { what: "x".into(), iterations, residual }.to_string();
+        assert_eq!(e(3, 0.5), "no convergence in x after 3 iterations (residual 5.000e-1)");
+        assert_eq!(e(0, f64::NAN), "no convergence in x");
+        assert_eq!(e(7, f64::INFINITY), "no convergence in x after 7 iterations");
+        assert!(!e(0, f64::NAN).contains("NaN"));
     }
 }
