@@ -10,7 +10,7 @@
 //! and to zero where the contact opens. So the state repeats after one or two passes where a
 //! contact opens, slips in one direction or sticks throughout; a contact that barely slips in
 //! a turning direction approaches its periodic state by `mu N / |T*|` per slipping sample, and
-//! the cap returns a state a little short of it. The exact fixed point of the period map is
+//! after `MAX_PASSES` passes the state is short of the periodic one. The exact fixed point of the period map is
 //! not used: as the slip of such a contact vanishes, the fixed point's part across the slip
 //! direction at the slipping sample is zero while the stuck state's (the elastic start) is
 //! not, so the force would jump at the onset of slip, and the residual with it.
