@@ -168,6 +168,23 @@ impl ContactLaw {
         k
     }
 
+    /// [`ContactLaw::stuck_stiffness_block`] of the members closed at zero displacement (no
+    /// gap: `n0 >= 0`, or no normal law), the open ones counted as zero: the contact's
+    /// stiffness in the linear limit that a structure at rest starts from.
+    pub fn closed_stiffness_block(&self) -> Vec<f64> {
+        let d = self.dim();
+        let mut k = vec![0.0; d * d];
+        for law in self.members() {
+            let open = matches!(law, ContactLaw::Friction3D { n0, .. } | ContactLaw::Friction2D { n0, .. } | ContactLaw::Unilateral { n0, .. } if *n0 < 0.0);
+            if !open {
+                for (s, v) in k.iter_mut().zip(law.stuck_stiffness_block()) {
+                    *s += v;
+                }
+            }
+        }
+        k
+    }
+
     /// The law with every [`ContactLaw::External`] member that has no label named
     /// `"element {index}"` (for error messages; [`crate::model::ContactCoordinates`] calls it
     /// with the contact's index in the model).

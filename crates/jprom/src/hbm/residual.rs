@@ -475,6 +475,65 @@ pub(crate) fn evaluate_into(
     Ok(())
 }
 
+/// The residual at `z = 0` and the Jacobian of the linear limit there: `D + W^T K_c W`, every
+/// contact closed at zero displacement as its stuck spring
+/// ([`crate::contact::ContactLaw::closed_stiffness_block`]
+/// on every harmonic), the open ones as nothing. One Newton step from zero with it gives the
+/// linear stuck response, the start a cold solve takes when zero does not converge (a
+/// contact closed by a static force has no stiffness at zero, where it only just touches).
+///
+/// # Errors
+/// As [`evaluate`].
+/// `None` when that Jacobian is the one at zero already (every contact's stiffness there is its
+/// linear limit's), so that the step from zero is the linear limit.
+pub(crate) fn linear_limit_at_zero(system: &dyn HarmonicSystem, lin: &LinearPart, plan: Option<&AftPlan>, ws: &mut ResidualWorkspace) -> Result<Option<(Vec<f64>, Matrix)>> {
+    let layout = system.layout();
+    let z = vec![0.0; layout.total()];
+    let (mut r, mut jac) = (Vec::new(), None);
+    evaluate_into(system, lin, plan, &z, true, ws, &mut r, &mut jac)?;
+    if system.contact_laws().is_empty() {
+        return Ok(None);
+    }
+    let n_coeffs = 2 * layout.harmonics + 1;
+    let mut changed = false;
+    for (c, law) in system.contact_laws().iter().enumerate() {
+        let d = law.dim();
+        let n = d * n_coeffs;
+        let k = law.closed_stiffness_block();
+        let block = &mut ws.forces.jac[ws.forces.jac_offsets[c]..ws.forces.jac_offsets[c] + n * n];
+        let mut closed = vec![0.0; n * n];
+        for coeff in 0..n_coeffs {
+            for row in 0..d {
+                for col in 0..d {
+                    closed[(coeff * d + row) + (coeff * d + col) * n] = k[row + col * d];
+                }
+            }
+        }
+        // the same up to the transforms' round-off, against the block's largest entry
+        let size = block.iter().chain(&closed).fold(0.0f64, |m, v| m.max(v.abs()));
+        changed |= block.iter().zip(&closed).any(|(a, b)| (a - b).abs() > 1e-9 * size);
+        block.copy_from_slice(&closed);
+    }
+    if !changed {
+        return Ok(None);
+    }
+    match jac.as_mut().expect("jacobian requested") {
+        Matrix::Dense(m) => {
+            fill_linear_jacobian(layout, lin, m);
+            scatter_contact_jacobian(system, &ws.forces, m);
+        }
+        Matrix::Sparse(_) => {
+            let mut t = std::mem::take(&mut ws.triplets);
+            t.clear();
+            linear_triplets(layout, lin, &mut t);
+            contact_jacobian_triplets(system, &ws.forces, &mut t);
+            ws.assembly.as_ref().expect("the evaluation above assembled it").assemble(&t, &mut jac);
+            ws.triplets = t;
+        }
+    }
+    Ok(Some((r, jac.expect("jacobian requested"))))
+}
+
 /// The per-contact cycle reports (states per time sample, dissipated energy) at `z`; empty
 /// for a system without contacts.
 ///

@@ -162,22 +162,45 @@ pub fn solve_point(
     let plan = plan_for(system)?;
     let lin = system.linear_part(omega)?;
     let mut ws = ResidualWorkspace::new();
-    let outcome = solve_with_fallback(AtFrequency { system, plan: plan.as_ref(), opts, omega }, &lin, z0, &mut ws)?;
+    let outcome = solve_with_fallback(AtFrequency { system, plan: plan.as_ref(), opts, omega }, &lin, z0, z_guess.is_none(), &mut ws)?;
     finish_point(system, plan.as_ref(), omega, outcome, &mut ws)
 }
 
-/// Newton from `z0`, then, if it does not converge, load stepping (see [`load_stepping`]) with
-/// half of the rest, then continuation in the level (see [`level_continuation`]); all
-/// attempts together use at most `opts.max_iterations` Jacobian evaluations, and the outcome
-/// reports them all. The first attempt gets a quarter of the budget (a point that converges at
-/// all usually does so in a few iterations).
-pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, ws: &mut ResidualWorkspace) -> Result<NewtonOutcome> {
+/// Newton from `z0`; if it does not converge and `z0` is a cold start (zero), Newton from the
+/// linear limit (the closed contacts stuck, [`linear_limit_start`]); then load stepping (see
+/// [`load_stepping`]) from that start with half of the rest, then continuation in the level
+/// (see [`level_continuation`]); all attempts together use at most `opts.max_iterations`
+/// Jacobian evaluations, and the outcome reports them all. The first attempt gets a quarter of
+/// the budget (a point that converges at all usually does so in a few iterations), the linear
+/// limit's another.
+pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, cold: bool, ws: &mut ResidualWorkspace) -> Result<NewtonOutcome> {
     let opts = at.opts;
     let budget = opts.max_iterations;
     let first = (budget / 4).max(1);
     match newton(at, lin, z0.clone(), first, ws) {
         Ok(o) => Ok(o),
         Err(NotConverged { iterations, error: e @ JpError::NoConvergence { .. }, .. }) if budget > iterations + 1 => {
+            let mut iterations = iterations;
+            let mut z0 = z0;
+            if cold {
+                if let Ok(Some(z_lin)) = linear_limit_start(at, lin, ws) {
+                    match newton(at, lin, z_lin, first.min(budget - iterations), ws) {
+                        Ok(mut o) => {
+                            o.iterations += iterations;
+                            return Ok(o);
+                        }
+                        Err(f) if matches!(f.error, JpError::NoConvergence { .. }) => iterations += f.iterations,
+                        Err(f) => return Err(f.error),
+                    }
+                    // the homotopy in the level starts from the static linear limit
+                    if let Ok(Some(z_static)) = linear_limit_start(at, &lin.with_harmonic_forces_scaled(0.0), ws) {
+                        z0 = z_static;
+                    }
+                }
+                if budget <= iterations + 1 {
+                    return Err(e);
+                }
+            }
             // load stepping gets half of what is left; if it stops at a fold in the level (the
             // response at this frequency has several branches), the arclength continuation in
             // the level follows the branch round it with the rest
@@ -202,7 +225,7 @@ pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec
                 // report the first attempt's residual, and all iterations spent
                 JpError::NoConvergence { iterations: it2, .. } => match e {
                     JpError::NoConvergence { what, residual, .. } => JpError::NoConvergence {
-                        what: format!("{what}, then load stepping and continuation in the forcing level"),
+                        what: format!("{what}, then {}load stepping and continuation in the forcing level", if cold { "from the linear limit, " } else { "" }),
                         iterations: iterations + it2,
                         residual,
                     },
@@ -213,6 +236,22 @@ pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec
         }
         Err(NotConverged { error, .. }) => Err(error),
     }
+}
+
+/// The linear limit at `lin`: one Newton step from zero with the Jacobian in which every
+/// contact closed at zero displacement is its stuck spring
+/// ([`super::residual::linear_limit_at_zero`]); `None` where that is the step Newton from zero
+/// took.
+///
+/// # Errors
+/// A singular Jacobian, or the evaluation's errors.
+fn linear_limit_start(at: AtFrequency<'_>, lin: &LinearPart, ws: &mut ResidualWorkspace) -> Result<Option<Vec<f64>>> {
+    let Some((r, j)) = residual::linear_limit_at_zero(at.system, lin, at.plan, ws)? else { return Ok(None) };
+    let mut lu = crate::linalg::MatrixLu::new(&j, "the linear limit's Jacobian")?;
+    let mut z = lu.solve(&r);
+    z.iter_mut().for_each(|v| *v = -*v);
+    crate::error::check_finite("the linear limit", &z)?;
+    Ok(Some(z))
 }
 
 /// Most Newton iterations of one load-stepping stage: a stage that needs more is better cut in
@@ -358,6 +397,8 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
     t_prev[n] = 1.0;
     let mut sz: Option<f64> = None;
     let mut ds = 0.1;
+    // the residual of the last corrector that failed (the last point's, converged, before any)
+    let mut last_residual = start.residual;
     let settings = NewtonSettings {
         tolerance: opts.residual_tolerance,
         step_tolerance: opts.step_tolerance,
@@ -395,7 +436,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
         let st: Vec<f64> = (0..=n).map(|i| w[i] * t[i]).collect();
         loop {
             if ds < 1e-6 || used >= budget {
-                return Err(no_convergence(used.min(budget), f64::NAN));
+                return Err(no_convergence(used.min(budget), last_residual));
             }
             let yp: Vec<f64> = (0..=n).map(|i| y[i] + ds * t[i]).collect();
             problem.constraint = Some((st.clone(), yp.clone()));
@@ -411,7 +452,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
                         let guess: Vec<f64> = (0..n).map(|i| y[i] + a * (y_new[i] - y[i])).collect();
                         let left = budget.saturating_sub(used);
                         if left == 0 {
-                            return Err(no_convergence(used, f64::NAN));
+                            return Err(no_convergence(used, last_residual));
                         }
                         return match newton(at, lin, guess, left, problem.ws) {
                             Ok(mut o) => {
@@ -425,7 +466,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
                         };
                     }
                     if y_new[n] < -1.0 {
-                        return Err(no_convergence(used, f64::NAN));
+                        return Err(no_convergence(used, c.residual.iter().map(|v| v * v).sum::<f64>().sqrt()));
                     }
                     if c.iterations <= 4 {
                         ds = (1.5 * ds).min(0.5);
@@ -440,10 +481,11 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
                 }
                 Err(f) => {
                     used += f.iterations.max(1);
+                    last_residual = f.residual_norm;
                     ds *= 0.5;
                 }
             }
         }
     }
-    Err(no_convergence(used.min(budget), f64::NAN))
+    Err(no_convergence(used.min(budget), last_residual))
 }
