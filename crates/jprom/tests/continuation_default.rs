@@ -8,7 +8,7 @@
 use faer::Mat;
 use jprom::contact::{Contact, ContactLaw};
 use jprom::condensation::CondensedSystem;
-use jprom::hbm::{solve_point, sweep, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use jprom::hbm::{solve_point, sweep, EventKind, FullSystem, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use jprom::model::{Damping, Excitation, HarmonicForce, Model};
 use std::ops::ControlFlow;
 
@@ -117,16 +117,36 @@ fn default_sweep_matches_a_fine_reference(sys: &dyn HarmonicSystem, hopts: &HbmO
     let fine = run(SweepOptions { max_step: 0.01, initial_step: 0.01, ..SweepOptions::band(0.5, 2.0) });
     summary("default", &default);
     summary("reference", &fine);
+    // Folds closer than 1e-4 of the band are one fold of the branch: where a contact changes
+    // state at the fold, the branch can turn back and forth across the corners there (the
+    // fine reference traces three turns within 1e-5 of W = 1.41345 at the upper fold).
+    let clusters = |folds: &[f64]| -> Vec<f64> {
+        let mut out: Vec<f64> = Vec::new();
+        for &f in folds {
+            if !out.last().is_some_and(|l: &f64| (l - f).abs() < 1e-4 * 1.5) {
+                out.push(f);
+            }
+        }
+        out
+    };
     for (label, r) in [("default", &default), ("reference", &fine)] {
         check_ending(label, r);
         // W changes direction exactly at the detected folds (a hardening fold pair), and the
         // points are strictly ordered along the branch: never twice the same W in a row
-        assert_eq!(r.folds.len(), n_folds, "{label}: folds {:?}", r.folds);
-        assert_eq!(direction_changes(r), r.folds.len(), "{label}: W turns back away from the detected folds {:?}", r.folds);
-        assert!(r.restarts.is_empty(), "{label}: restarts at {:?}", r.restarts);
+        assert_eq!(clusters(&r.folds).len(), n_folds, "{label}: folds {:?}", r.folds);
+        // the points turn back in W only at folds (a turn there can lie within one step)
+        let w: Vec<f64> = r.points.iter().map(|p| p.omega).collect();
+        let turns = direction_changes(r);
+        assert!(turns <= r.folds.len(), "{label}: {turns} turns of W, folds {:?}", r.folds);
+        // (a fold located on the arc from point i - 1 to point i + 1)
+        for i in (1..w.len() - 1).filter(|&i| (w[i] - w[i - 1]) * (w[i + 1] - w[i]) < 0.0) {
+            let at_fold = r.events.iter().any(|e| e.kind == EventKind::Fold && (e.after_point + 1 == i || e.after_point == i));
+            assert!(at_fold, "{label}: W turns back at point {i} (W = {}) with no fold beside it: {:?}", w[i], r.events);
+        }
+        assert!(r.restarts.is_empty() && r.gaps.is_empty(), "{label}: restarts at {:?}, gaps {:?}", r.restarts, r.gaps);
     }
     // the same folds (the step decides how closely a fold is located)
-    for (a, b) in default.folds.iter().zip(&fine.folds) {
+    for (a, b) in clusters(&default.folds).iter().zip(&clusters(&fine.folds)) {
         assert!((a - b).abs() < 2e-3 * b, "folds {:?} vs reference {:?}", default.folds, fine.folds);
     }
     // Every default point lies on the reference's branch: solved at its frequency from the

@@ -27,8 +27,8 @@ pub use continuation::{sweep, sweep_from};
 pub use full::{FullSystem, Storage};
 pub use layout::HarmonicLayout;
 pub use crate::aft::Discretisation;
-pub use options::{default_nt, HbmOptions, SweepOptions};
-pub use solution::{PointSolution, SweepEnd, SweepResult, LEFT_BAND_MARGIN};
+pub use options::{default_nt, ContinuationMethod, HbmOptions, SweepOptions};
+pub use solution::{BranchEvent, EventKind, PointSolution, SweepEnd, SweepGap, SweepResult, LEFT_BAND_EXCURSION, LEFT_BAND_MARGIN};
 pub use solve::solve_point;
 
 use crate::contact::{ContactLaw, Contacts};

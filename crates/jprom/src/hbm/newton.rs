@@ -49,11 +49,13 @@ pub(crate) struct NewtonSettings {
     pub scaling: bool,
 }
 
-/// A converged solve: the solution, the iterations used and the residual there.
+/// A converged solve: the solution, the iterations used, the residual there and the
+/// Jacobian evaluated with it (at the solution itself).
 pub(crate) struct Converged {
     pub x: Vec<f64>,
     pub iterations: usize,
     pub residual: Vec<f64>,
+    pub jacobian: Option<Matrix>,
 }
 
 /// Why a solve did not converge: the iterations it used and where it stopped.
@@ -164,7 +166,7 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
         return Err(fail(0, rel, JpError::invalid("initial guess", "residual is not finite")));
     }
     if problem.converged(&cur.r, settings.tolerance) {
-        return Ok(Converged { x, iterations: 0, residual: cur.r });
+        return Ok(Converged { x, iterations: 0, residual: cur.r, jacobian: cur.jac });
     }
     let mut diag = vec![1.0; n];
     let mut norms = vec![0.0; n];
@@ -240,7 +242,7 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
             std::mem::swap(&mut cur, &mut trial);
             rel = rel_trial;
             if problem.converged(&cur.r, settings.tolerance) {
-                return Ok(Converged { x, iterations, residual: cur.r });
+                return Ok(Converged { x, iterations, residual: cur.r, jacobian: cur.jac });
             }
             if settings.scaling {
                 column_norms_into(cur.jac.as_ref().expect("jacobian requested"), &mut norms);

@@ -100,6 +100,25 @@ pub struct SweepOptions {
     /// ([`crate::hbm::HarmonicSystem::linear_part_with_derivative_into`]; the condensed systems
     /// have it and do not use this).
     pub omega_difference: f64,
+    /// How steps are oriented, accepted and sized (default
+    /// [`ContinuationMethod::Oriented`]; docs/formulation.md §6).
+    pub method: ContinuationMethod,
+}
+
+/// The continuation's predictor, orientation and acceptance rules (docs/formulation.md §6).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContinuationMethod {
+    /// Tangent predictor oriented by the sign of the determinant of the bordered Jacobian
+    /// `[J_z R_omega; t^T S]` (constant along a regular branch, through folds and through the
+    /// corners where contacts change state); a step is accepted when it lies ahead along the
+    /// tangents at both of its ends; corners crossed along the tangent of the next piece;
+    /// where no step converges, a gap stepped over at fixed frequency and marked.
+    #[default]
+    Oriented,
+    /// The earlier rules: secant predictor oriented along the last chord, sharp-turn retries,
+    /// corner and kink rules and fixed-frequency restarts, kept for comparison.
+    Secant,
 }
 
 impl Default for SweepOptions {
@@ -116,6 +135,7 @@ impl Default for SweepOptions {
             max_corrector_iterations: 12,
             target_iterations: 4,
             omega_difference: 1e-6,
+            method: ContinuationMethod::Oriented,
         }
     }
 }

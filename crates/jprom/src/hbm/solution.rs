@@ -88,13 +88,20 @@ pub enum SweepEnd {
     /// `max_points` points were computed before reaching `omega_end`.
     MaxPoints,
     /// The branch turned back at a fold and left the band behind `omega_start` by more than
-    /// [`LEFT_BAND_MARGIN`] of its width; the points up to there are kept.
+    /// [`LEFT_BAND_EXCURSION`] of its width ([`LEFT_BAND_MARGIN`] for the secant
+    /// continuation); the points up to there are kept.
     LeftBand,
 }
 
 /// How far (as a fraction of the band width) a branch may run back past `omega_start` before
-/// the sweep ends with [`SweepEnd::LeftBand`].
+/// the secant continuation ends with [`SweepEnd::LeftBand`].
 pub const LEFT_BAND_MARGIN: f64 = 0.1;
+
+/// How far (as a fraction of the band width) a branch may run back past `omega_start` before
+/// the oriented continuation ends with [`SweepEnd::LeftBand`]: a whole band, so that a
+/// resonance whose peak bends out of the band (a softening friction peak below `omega_start`,
+/// a hardening one above it on a downward sweep) is followed round and back.
+pub const LEFT_BAND_EXCURSION: f64 = 1.0;
 
 /// A branch of converged points from a pseudo-arclength sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -119,9 +126,65 @@ pub struct SweepResult {
     #[serde(default)]
     pub folds: Vec<f64>,
     /// Frequencies from which the sweep stepped over a kink at fixed frequency because the
-    /// corrector could not settle there (see [`crate::hbm::continuation`]).
+    /// corrector could not settle there ([`crate::hbm::ContinuationMethod::Secant`] only; the
+    /// oriented continuation marks such places as [`SweepResult::gaps`]).
     #[serde(default)]
     pub restarts: Vec<f64>,
+    /// Folds and branch points along the branch, in branch order, each located between two
+    /// of its points (docs/formulation.md §6.6).
+    #[serde(default)]
+    pub events: Vec<BranchEvent>,
+    /// Parts of the band the continuation could not follow and stepped over at fixed
+    /// frequency (docs/formulation.md §6.7); a sweep with gaps that reached the band's end says
+    /// so here, its points on either side being converged solutions.
+    #[serde(default)]
+    pub gaps: Vec<SweepGap>,
+}
+
+/// What a [`BranchEvent`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// The branch turns back in frequency: the tangent's frequency component changes sign.
+    Fold,
+    /// The sign of the bordered Jacobian's determinant changes on a smooth piece of the
+    /// branch: another branch crosses it there.
+    BranchPoint,
+}
+
+impl EventKind {
+    /// `fold` or `branch_point`.
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Fold => "fold",
+            EventKind::BranchPoint => "branch_point",
+        }
+    }
+}
+
+/// A fold or a branch point located along a sweep.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BranchEvent {
+    pub kind: EventKind,
+    /// Angular frequency (rad/s).
+    pub omega: f64,
+    /// Half the width, in frequency, of the last bracket of the location (rad/s): the event
+    /// lies within `omega +- omega_tolerance` along the branch.
+    pub omega_tolerance: f64,
+    /// Index in [`SweepResult::points`] of the point just before it on the branch.
+    pub after_point: usize,
+    /// First-harmonic amplitude of the first output there (0 for a system without outputs).
+    pub amplitude: f64,
+}
+
+/// A part of the band stepped over at fixed frequency.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepGap {
+    /// Frequency of the last point before the gap and of the first point after it (rad/s).
+    pub from: f64,
+    pub to: f64,
+    /// Why the continuation could not go on (the corrector's last error).
+    pub reason: String,
 }
 
 impl Default for SweepResult {
@@ -133,7 +196,18 @@ impl Default for SweepResult {
 impl SweepResult {
     /// No point yet; `end` is [`SweepEnd::ReachedEnd`] until set.
     pub fn empty() -> Self {
-        SweepResult { points: Vec::new(), rejected_steps: 0, end: SweepEnd::ReachedEnd, stopped_early: false, failure: None, error: None, folds: Vec::new(), restarts: Vec::new() }
+        SweepResult {
+            points: Vec::new(),
+            rejected_steps: 0,
+            end: SweepEnd::ReachedEnd,
+            stopped_early: false,
+            failure: None,
+            error: None,
+            folds: Vec::new(),
+            restarts: Vec::new(),
+            events: Vec::new(),
+            gaps: Vec::new(),
+        }
     }
 
     /// Whether the branch covered the band: it reached `omega_end`.
