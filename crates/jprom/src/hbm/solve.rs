@@ -396,6 +396,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
     let mut t_prev = vec![0.0; n + 1];
     t_prev[n] = 1.0;
     let mut sz: Option<f64> = None;
+    let mut sigma: Option<f64> = None;
     let mut ds = 0.1;
     // the residual of the last corrector that failed (the last point's, converged, before any)
     let mut last_residual = start.residual;
@@ -418,7 +419,10 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
         let b = jz.bordered(&col, &row)?;
         let mut rhs = vec![0.0; n + 1];
         rhs[n] = 1.0;
-        let t_raw = MatrixLu::new(&b, &format!("level continuation tangent at omega = {omega}"))?.solve(&rhs);
+        let mut lu = MatrixLu::new(&b, &format!("level continuation tangent at omega = {omega}"))?;
+        let t_raw = lu.solve(&rhs);
+        // t_raw^T S t_prev = 1, so sign det [J_z -g; (S t_raw)^T] = sign det b
+        let sign = lu.determinant_sign();
         // z scaled by |dz/dlambda| at the start: a unit of arclength first moves lambda by ~1
         let sz = *sz.get_or_insert_with(|| {
             let dz = norm2(&t_raw[..n]) / t_raw[n].abs().max(1e-300);
@@ -430,7 +434,11 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
             return Err(JpError::singular(format!("level continuation tangent at omega = {omega}")));
         }
         let mut t: Vec<f64> = t_raw.iter().map(|v| v / len).collect();
-        if (0..=n).map(|i| w[i] * t[i] * t_prev[i]).sum::<f64>() < 0.0 {
+        // oriented as the first tangent was (towards lambda > 0) by the determinant's sign,
+        // which keeps through folds and corners where a contact changes state (§6.1); by the
+        // last tangent where the factorisation has no sign (sparse)
+        let sigma = *sigma.get_or_insert(sign.unwrap_or(1.0));
+        if sign.is_some_and(|s| s != sigma) {
             t.iter_mut().for_each(|v| *v = -*v);
         }
         let st: Vec<f64> = (0..=n).map(|i| w[i] * t[i]).collect();
@@ -454,16 +462,28 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
                         if left == 0 {
                             return Err(no_convergence(used, last_residual));
                         }
-                        return match newton(at, lin, guess, left, problem.ws) {
+                        // from a step that crossed lambda = 1 far away (a contact changed
+                        // state between), a shorter step that ends before it, and again
+                        let far = a * ds > 1e-6 && left > 4 * settings.max_iterations;
+                        let tries = if far { 4 * settings.max_iterations } else { left };
+                        match newton(at, lin, guess, tries, problem.ws) {
                             Ok(mut o) => {
                                 o.iterations += used;
-                                Ok(o)
+                                return Ok(o);
                             }
-                            Err(f) => Err(match f.error {
-                                JpError::NoConvergence { .. } => no_convergence(used + f.iterations, f.residual_norm),
-                                e => e,
-                            }),
-                        };
+                            Err(f) if far && matches!(f.error, JpError::NoConvergence { .. }) => {
+                                used += f.iterations.max(1);
+                                last_residual = f.residual_norm;
+                                ds *= 0.5 * a;
+                                continue;
+                            }
+                            Err(f) => {
+                                return Err(match f.error {
+                                    JpError::NoConvergence { .. } => no_convergence(used + f.iterations, f.residual_norm),
+                                    e => e,
+                                })
+                            }
+                        }
                     }
                     if y_new[n] < -1.0 {
                         return Err(no_convergence(used, c.residual.iter().map(|v| v * v).sum::<f64>().sqrt()));
