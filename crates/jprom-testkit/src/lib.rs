@@ -6,6 +6,7 @@
 #![allow(dead_code)]
 
 pub mod blade;
+pub mod campaign;
 pub mod chain;
 pub mod hbm;
 pub mod native;

@@ -383,7 +383,8 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
     assert_eq!(kinds, [0, 1, 2], "{:?}", expect.corrections);
     let c = &expect.corrections;
     assert!(c[0].worst_error_before > 1e-2 && c[0].worst_error_after > c[0].worst_error_before, "the modes alone lose: {:?}", c[0]);
-    assert!(c[2].worst_error_after < 1e-10, "the larger gamma completes the basis: {:?}", c[2]);
+    // (the error of a complete basis is the reduced sweep's own solver tolerance, 1e-10)
+    assert!(c[2].worst_error_after < 1e-8, "the larger gamma completes the basis: {:?}", c[2]);
     assert_eq!(c.iter().map(|c| c.swept).collect::<Vec<_>>(), [false, false, true], "{c:?}");
     assert_eq!(per_pass.keys().copied().collect::<Vec<_>>(), [3], "only the completed basis swept");
     assert_eq!(expect.end, CorrectionEnd::WithinThreshold);
