@@ -51,6 +51,8 @@ module jprom_c
   !> Why a sweep ended (jprom_sweep_end in C).
   integer(c_int), parameter :: JPROM_SWEEP_REACHED_END = 0, JPROM_SWEEP_STALLED = 1, JPROM_SWEEP_POINT_CAP = 2, &
                                JPROM_SWEEP_LEFT_BAND = 3, JPROM_SWEEP_CANCELLED = 4
+  !> What a branch event is (jprom_event_kind in C).
+  integer(c_int), parameter :: JPROM_EVENT_FOLD = 0, JPROM_EVENT_BRANCH_POINT = 1
   !> Documented caps (see include/jprom.h).
   integer(c_size_t), parameter :: JPROM_MAX_HARMONICS = 64, JPROM_MAX_NT = 65536, JPROM_MAX_SAMPLES = 10000, &
                                   JPROM_DENSE_MAX_DOF = 10000, JPROM_MAX_FORCE_HARMONIC = 1024
@@ -457,6 +459,46 @@ module jprom_c
         bind(C, name="jprom_sweep_result_failure_copy")
       import :: c_int, c_size_t, c_ptr, c_char
       type(c_ptr), value :: sweep
+      character(kind=c_char), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: written
+    end function
+    integer(c_int) function jprom_sweep_result_n_events(sweep, out) bind(C, name="jprom_sweep_result_n_events")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_result_event(sweep, i, kind, omega, omega_tolerance, after_point, amplitude) &
+        bind(C, name="jprom_sweep_result_event")
+      import :: c_int, c_size_t, c_ptr, c_double
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      integer(c_int), intent(out) :: kind
+      real(c_double), intent(out) :: omega, omega_tolerance
+      integer(c_size_t), intent(out) :: after_point
+      real(c_double), intent(out) :: amplitude
+    end function
+    function jprom_event_kind_name(kind) result(str) bind(C, name="jprom_event_kind_name")
+      import :: c_ptr, c_int
+      type(c_ptr) :: str
+      integer(c_int), value :: kind
+    end function
+    integer(c_int) function jprom_sweep_result_n_gaps(sweep, out) bind(C, name="jprom_sweep_result_n_gaps")
+      import :: c_int, c_size_t, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_size_t), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_result_gap(sweep, i, from, to) bind(C, name="jprom_sweep_result_gap")
+      import :: c_int, c_size_t, c_ptr, c_double
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      real(c_double), intent(out) :: from, to
+    end function
+    integer(c_int) function jprom_sweep_result_gap_reason_copy(sweep, i, buf, len, written) &
+        bind(C, name="jprom_sweep_result_gap_reason_copy")
+      import :: c_int, c_size_t, c_ptr, c_char
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
       character(kind=c_char), dimension(*), intent(out) :: buf
       integer(c_size_t), value :: len
       integer(c_size_t), intent(out) :: written
@@ -958,7 +1000,8 @@ module jprom
                      JPROM_CORRECTIONS_MAX_CORRECTIONS, JPROM_CORRECTIONS_NO_PROGRESS, JPROM_CORRECTIONS_CANCELLED, &
                      JPROM_SLIPPING_NEVER, &
                      JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS, JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, &
-                     JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_MAX_HARMONICS, &
+                     JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, JPROM_SWEEP_CANCELLED, JPROM_EVENT_FOLD, &
+                     JPROM_EVENT_BRANCH_POINT, JPROM_MAX_HARMONICS, &
                      JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   implicit none
   private
@@ -973,6 +1016,7 @@ module jprom
   public :: JPROM_SLIPPING_NEVER, JPROM_SLIPPING_AT_GROSS_SLIP, JPROM_SLIPPING_ALWAYS
   public :: JPROM_SWEEP_REACHED_END, JPROM_SWEEP_STALLED, JPROM_SWEEP_POINT_CAP, JPROM_SWEEP_LEFT_BAND, &
             JPROM_SWEEP_CANCELLED
+  public :: JPROM_EVENT_FOLD, JPROM_EVENT_BRANCH_POINT
   public :: JPROM_MAX_HARMONICS, JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   ! errors, version, diagnostics
   public :: jp_last_error, jp_status_name, jp_version, jp_live_handle_count, jp_set_memory_budget, jp_memory_budget
@@ -993,6 +1037,7 @@ module jprom
   public :: jp_sweep, jp_sweep_from, jp_sweep_free, jp_sweep_n_points, jp_sweep_end, jp_sweep_end_name, jp_sweep_reached_end, &
             jp_sweep_point, jp_sweep_point_coeffs, jp_sweep_point_energy, jp_sweep_point_convergence, &
             jp_sweep_solution, jp_sweep_save, jp_sweep_load
+  public :: jp_sweep_n_events, jp_sweep_event, jp_event_kind_name, jp_sweep_n_gaps, jp_sweep_gap
   ! JP reduction
   public :: jp_basis_predict, jp_basis_from_solution, jp_basis_sizes, jp_basis_free, jp_basis_save, jp_basis_load, &
             jp_rom_sweep, jp_rom_sweep_adaptive, jp_sweep_point_error, jp_sweep_n_corrections, jp_sweep_correction, &
@@ -1723,6 +1768,72 @@ contains
     integer(c_int) :: r
     jp_sweep_reached_end = int(jprom_sweep_result_reached_end(sweep, r))
     if (jp_sweep_reached_end == JPROM_OK) reached = r /= 0
+  end function
+
+  !> Number of folds and branch points located along the sweep, in the order the branch meets them.
+  integer function jp_sweep_n_events(sweep, n)
+    use jprom_c, only: jprom_sweep_result_n_events
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: n
+    integer(c_size_t) :: m
+    jp_sweep_n_events = int(jprom_sweep_result_n_events(sweep, m))
+    if (jp_sweep_n_events == JPROM_OK) n = int(m)
+  end function
+
+  !> Event i (1-based): kind (JPROM_EVENT_FOLD, JPROM_EVENT_BRANCH_POINT), angular frequency, the
+  !> half-width it is located to, the point just before it (1-based) and the first output's
+  !> first-harmonic amplitude there.
+  integer function jp_sweep_event(sweep, i, kind, omega, omega_tolerance, after_point, amplitude)
+    use jprom_c, only: jprom_sweep_result_event
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i
+    integer, intent(out) :: kind, after_point
+    real(c_double), intent(out) :: omega, omega_tolerance, amplitude
+    integer(c_int) :: k
+    integer(c_size_t) :: after
+    jp_sweep_event = int(jprom_sweep_result_event(sweep, c_index(i), k, omega, omega_tolerance, after, amplitude))
+    if (jp_sweep_event /= JPROM_OK) return
+    kind = int(k)
+    after_point = int(after) + 1
+  end function
+
+  !> A short name for an event kind ("fold", "branch_point"; "unknown" otherwise).
+  function jp_event_kind_name(kind) result(name)
+    use jprom_c, only: jprom_event_kind_name
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: name
+    name = from_c(jprom_event_kind_name(int(kind, c_int)))
+  end function
+
+  !> Number of parts of the band the sweep stepped over at fixed frequency (its gaps).
+  integer function jp_sweep_n_gaps(sweep, n)
+    use jprom_c, only: jprom_sweep_result_n_gaps
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(out) :: n
+    integer(c_size_t) :: m
+    jp_sweep_n_gaps = int(jprom_sweep_result_n_gaps(sweep, m))
+    if (jp_sweep_n_gaps == JPROM_OK) n = int(m)
+  end function
+
+  !> Gap i (1-based): the angular frequencies of the points before and after it, and why the
+  !> continuation could not go on there (truncated to len(why)).
+  integer function jp_sweep_gap(sweep, i, from, to, why)
+    use jprom_c, only: jprom_sweep_result_gap, jprom_sweep_result_gap_reason_copy
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i
+    real(c_double), intent(out) :: from, to
+    character(len=*), intent(out) :: why
+    character(kind=c_char) :: buf(len(why) + 1)
+    integer(c_size_t) :: written
+    integer :: k
+    why = ''
+    jp_sweep_gap = int(jprom_sweep_result_gap(sweep, c_index(i), from, to))
+    if (jp_sweep_gap /= JPROM_OK) return
+    ! a truncated copy is still a good prefix
+    k = int(jprom_sweep_result_gap_reason_copy(sweep, c_index(i), buf, int(size(buf), c_size_t), written))
+    do k = 1, min(len(why), int(written))
+      why(k:k) = buf(k)
+    end do
   end function
 
   !> Point i (1-based): angular frequency and first-harmonic amplitude at each output (1..size(amps)).

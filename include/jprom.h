@@ -133,6 +133,15 @@ typedef enum {
   JPROM_CALLBACK_ERROR = 12,
 } jprom_status;
 
+// What a branch event is (`jprom_sweep_result_event`). The values never change.
+typedef enum {
+  // The branch turns back in frequency (the tangent's frequency component changes sign).
+  JPROM_EVENT_FOLD = 0,
+  // The bordered Jacobian's determinant changes sign on a smooth piece: another branch
+  // crosses this one there.
+  JPROM_EVENT_BRANCH_POINT = 1,
+} jprom_event_kind;
+
 // Why the corrections of `jprom_rom_sweep_adaptive` ended, from
 // `jprom_sweep_result_correction_end`. Since 0.3.
 typedef enum {
@@ -151,8 +160,9 @@ typedef enum {
 typedef enum {
   // The branch reached `omega_end`.
   JPROM_SWEEP_REACHED_END = 0,
-  // The corrector could not converge even at the smallest step (`min_step`), after any
-  // restarts: the text of `jprom_sweep_result_failure_copy` has where and the last residual.
+  // The corrector could not converge even at the smallest step (`min_step`) and no gap could
+  // be stepped over: the text of `jprom_sweep_result_failure_copy` has where and the last
+  // residual.
   JPROM_SWEEP_STALLED = 1,
   // `max_points` points were computed before reaching `omega_end`.
   JPROM_SWEEP_POINT_CAP = 2,
@@ -343,6 +353,45 @@ extern "C" {
 // Number of live handles of all kinds in the process (diagnostic, e.g. for leak checks in
 // tests: it returns to its earlier value once everything created has been freed).
 jprom_status jprom_live_handle_count(size_t *out);
+
+// A short name for a `jprom_event_kind` value ("fold", "branch_point"; "unknown" for any
+// other value). Static storage: do not free.
+const char *jprom_event_kind_name(int kind);
+
+// Number of folds and branch points located along a sweep, in the order the branch meets
+// them.
+jprom_status jprom_sweep_result_n_events(const jprom_sweep_result *sweep, size_t *out);
+
+// Event `index` of a sweep: its kind, angular frequency `omega` (rad/s), `omega_tolerance`
+// (the event lies within `omega +- omega_tolerance` along the branch), `after_point` (the
+// index of the sweep's point just before it) and the first-harmonic amplitude of the first
+// output there. Any of the out pointers may be NULL.
+jprom_status jprom_sweep_result_event(const jprom_sweep_result *sweep,
+                                      size_t index,
+                                      jprom_event_kind *kind,
+                                      double *omega,
+                                      double *omega_tolerance,
+                                      size_t *after_point,
+                                      double *amplitude);
+
+// Number of parts of the band a sweep stepped over at fixed frequency (its gaps).
+jprom_status jprom_sweep_result_n_gaps(const jprom_sweep_result *sweep, size_t *out);
+
+// Gap `index` of a sweep: the angular frequencies (rad/s) of the last point before it and of
+// the first point after it. Either pointer may be NULL.
+jprom_status jprom_sweep_result_gap(const jprom_sweep_result *sweep,
+                                    size_t index,
+                                    double *from,
+                                    double *to);
+
+// Copies why the continuation could not go on at gap `index` (the corrector's last error)
+// into `buf`, with the convention of `jprom_last_error_copy`: NUL-terminated, `*written` =
+// full length, `JPROM_BAD_SIZE` if truncated.
+jprom_status jprom_sweep_result_gap_reason_copy(const jprom_sweep_result *sweep,
+                                                size_t index,
+                                                char *buf,
+                                                size_t len,
+                                                size_t *written);
 
 // Creates an FE model from sparse symmetric stiffness and mass matrices in compressed sparse
 // column form (0-based, both triangles, duplicates summed; `n` up to what the memory budget

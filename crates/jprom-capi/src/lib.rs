@@ -13,6 +13,7 @@
 
 pub(crate) mod guard;
 pub(crate) mod handle;
+pub mod events;
 pub mod fe;
 pub mod jp;
 pub mod limits;
@@ -22,6 +23,7 @@ pub mod solve;
 pub mod status;
 mod versioned;
 
+pub use events::*;
 pub use fe::*;
 pub use jp::*;
 pub use limits::*;

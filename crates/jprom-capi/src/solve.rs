@@ -425,8 +425,9 @@ pub unsafe extern "C" fn jprom_sweep_result_n_points(sweep: *const jprom_sweep_r
 pub enum jprom_sweep_end {
     /// The branch reached `omega_end`.
     JPROM_SWEEP_REACHED_END = 0,
-    /// The corrector could not converge even at the smallest step (`min_step`), after any
-    /// restarts: the text of `jprom_sweep_result_failure_copy` has where and the last residual.
+    /// The corrector could not converge even at the smallest step (`min_step`) and no gap could
+    /// be stepped over: the text of `jprom_sweep_result_failure_copy` has where and the last
+    /// residual.
     JPROM_SWEEP_STALLED = 1,
     /// `max_points` points were computed before reaching `omega_end`.
     JPROM_SWEEP_POINT_CAP = 2,

@@ -7,6 +7,7 @@
 mod ffi_callback;
 mod ffi_damping;
 mod ffi_elements;
+mod ffi_events;
 mod ffi_fe;
 mod ffi_files;
 mod ffi_hardening;

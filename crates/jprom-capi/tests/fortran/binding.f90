@@ -29,6 +29,11 @@ program binding
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
   logical :: reached, repro, swept
   character(len=200) :: why
+  type(c_ptr) :: duffing, dsweep
+  type(jprom_hbm_options) :: dopts
+  type(jprom_sweep_options) :: dband
+  integer :: nev, ngap, ekind, eafter, eafter2
+  real(c_double) :: ew, ew2, etol, eamp
 
   call get_command_argument(1, dir)
   if (dir == '') dir = '.'
@@ -155,6 +160,27 @@ program binding
   call ok(jp_sweep_end(sweep, reason, why), 'jp_sweep_end')
   call check(reached .and. reason == JPROM_SWEEP_REACHED_END .and. jp_sweep_end_name(reason) == 'reached_end', &
              'the sweep reached the end')
+  call ok(jp_sweep_n_gaps(sweep, ngap), 'jp_sweep_n_gaps')
+  call check(ngap == 0 .and. jp_sweep_gap(sweep, 1, ew, ew2, why) == JPROM_INVALID_VALUE, 'no gaps, gap 1 refused')
+  ! a Duffing oscillator's hardening peak: two folds, met in order, inside the band
+  call ok(jp_model_new(reshape([1.0d0], [1, 1]), reshape([1.0d0], [1, 1]), duffing, msg), 'jp_model_new')
+  call ok(jp_add_polynomial_spring(duffing, 1, [0.0d0, 0.0d0, 0.5d0], message=msg), 'jp_add_polynomial_spring')
+  call ok(jp_set_damping(duffing, 0.05d0, 0.0d0, msg), 'jp_set_damping')
+  call ok(jp_set_first_harmonic_force(duffing, [0.3d0], [0.0d0], msg), 'jp_set_first_harmonic_force')
+  call ok(jp_set_outputs(duffing, [1]), 'jp_set_outputs')
+  call jp_default_options(dopts, dband)
+  dopts%harmonics = 5
+  dband%omega_start = 0.6d0; dband%omega_end = 2.6d0
+  call ok(jp_sweep(duffing, dopts, dband, dsweep, msg), 'jp_sweep')
+  call ok(jp_sweep_n_events(dsweep, nev), 'jp_sweep_n_events')
+  call ok(jp_sweep_event(dsweep, 1, ekind, ew, etol, eafter, eamp), 'jp_sweep_event')
+  call ok(jp_sweep_event(dsweep, 2, ekind, ew2, etol, eafter2, eamp), 'jp_sweep_event')
+  call check(nev == 2 .and. ekind == JPROM_EVENT_FOLD .and. jp_event_kind_name(ekind) == 'fold' .and. ew2 < ew &
+             .and. ew > 0.6d0 .and. ew < 2.6d0 .and. etol > 0 .and. etol < 1d-6 * ew2 .and. eamp > 0 &
+             .and. eafter >= 1 .and. eafter2 > eafter, 'two folds of the Duffing peak, in branch order')
+  call check(jp_sweep_event(dsweep, 3, ekind, ew, etol, eafter, eamp) == JPROM_INVALID_VALUE, 'event 3 of 2 refused')
+  s = jp_sweep_free(dsweep)
+  s = jp_model_free(duffing)
   k = npts / 2
   call ok(jp_sweep_point(sweep, k, omega, a1), 'jp_sweep_point')
   call ok(jp_sweep_solution(sweep, k, sol2, msg), 'jp_sweep_solution')
