@@ -98,6 +98,47 @@ pub struct SolverRow {
     /// study without cases.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub case: String,
+    /// The folds and branch points located along the sweep, in branch order
+    /// (docs/formulation.md §6.6).
+    #[serde(default)]
+    pub events: Vec<EventRow>,
+    /// The parts of the band the sweep stepped over at fixed frequency, with why.
+    #[serde(default)]
+    pub gaps: Vec<GapRow>,
+}
+
+/// A fold or branch point of a sweep, in the study's units.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EventRow {
+    /// `fold` or `branch_point`.
+    pub kind: String,
+    pub freq_hz: f64,
+    /// The event lies within `freq_hz +- tolerance_hz` along the branch.
+    pub tolerance_hz: f64,
+    /// Index (0-based) of the sweep's point just before it, the row of the sweep's CSV.
+    pub after_point: usize,
+    /// First-harmonic amplitude of the first output there.
+    pub amplitude: f64,
+}
+
+/// A part of the band a sweep stepped over at fixed frequency.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GapRow {
+    pub from_hz: f64,
+    pub to_hz: f64,
+    /// Why the continuation could not go on there.
+    pub reason: String,
+}
+
+/// The events and gaps of `res` as rows.
+fn events_and_gaps(res: &SweepResult) -> (Vec<EventRow>, Vec<GapRow>) {
+    let events = res
+        .events
+        .iter()
+        .map(|e| EventRow { kind: e.kind.name().into(), freq_hz: e.omega / TWO_PI, tolerance_hz: e.omega_tolerance / TWO_PI, after_point: e.after_point, amplitude: e.amplitude })
+        .collect();
+    let gaps = res.gaps.iter().map(|g| GapRow { from_hz: g.from / TWO_PI, to_hz: g.to / TWO_PI, reason: g.reason.clone() }).collect();
+    (events, gaps)
 }
 
 /// One basis of the error-vs-basis-size study (`basis.gamma_study`) with one ROM, solved at the
@@ -605,6 +646,8 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         static_contact_error: None,
         speed_up: None,
         case: String::new(),
+        events: Vec::new(),
+        gaps: Vec::new(),
     }
 }
 
@@ -615,6 +658,10 @@ fn sweep_warnings(res: &SweepResult, p: &PointSolution, band: (f64, f64)) -> Vec
     let mut w = Vec::new();
     if !res.reached_end() {
         w.push(format!("the sweep did not cover the band: {}", res.failure.clone().unwrap_or_else(|| res.end.name().into())));
+    }
+    if !res.gaps.is_empty() {
+        let spans: Vec<String> = res.gaps.iter().map(|g| format!("{:.3}-{:.3} Hz", g.from / TWO_PI, g.to / TWO_PI)).collect();
+        w.push(format!("the sweep stepped over {} part(s) of the band at fixed frequency, where the continuation could not go on: {}", res.gaps.len(), spans.join(", ")));
     }
     if let Some(edge) = peak_on_edge(res, p, band) {
         w.push(format!("the peak is on {edge} ({:.3} Hz): the resonance may lie outside the swept range", p.omega / TWO_PI));
@@ -693,7 +740,9 @@ fn csv_bytes(res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)
 /// One row per sweep point: `freq_hz`, then per output `j` the static term `x0_out{j}` (signed)
 /// and the amplitudes `x{h}_out{j}` of every harmonic `h = 1..H` (unit suffix: `_mm` or `_lu`),
 /// `e_star_0..e_star_H` (ROMs), Newton iterations, residual, stick/slip/separated AFT samples,
-/// the dissipated energy per cycle (`_mj` or `_flu`) and the sweep's end reason.
+/// the dissipated energy per cycle (`_mj` or `_flu`), what the branch meets between this point
+/// and the next (`events_after`: `fold`, `branch_point`, `gap`, joined by `+`; empty for
+/// nothing) and the sweep's end reason.
 fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>, (len, energy): (&str, &str)) -> std::io::Result<()> {
     let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
     let h_max = res.points.first().map(harmonics_of).unwrap_or(0);
@@ -706,7 +755,7 @@ fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64
     for h in 0..=h_max {
         header.push_str(&format!(",e_star_{h}"));
     }
-    header.push_str(&format!(",iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy_{energy},sweep_end"));
+    header.push_str(&format!(",iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy_{energy},events_after,sweep_end"));
     writeln!(f, "{header}")?;
     for (i, p) in res.points.iter().enumerate() {
         let mut line = format!("{:.6}", p.omega / TWO_PI);
@@ -724,7 +773,11 @@ fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64
             }
         }
         let c = state_counts(p);
-        line.push_str(&format!(",{},{:.3e},{},{},{},{:.6e},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), res.end.name()));
+        let mut after: Vec<&str> = res.events.iter().filter(|e| e.after_point == i).map(|e| e.kind.name()).collect();
+        if res.points.get(i + 1).is_some_and(|q| res.gaps.iter().any(|g| g.from == p.omega && g.to == q.omega)) {
+            after.push("gap");
+        }
+        line.push_str(&format!(",{},{:.3e},{},{},{},{:.6e},{},{}", p.iterations, p.residual_norm, c[0], c[1], c[2], p.dissipated_energy(), after.join("+"), res.end.name()));
         writeln!(f, "{line}")?;
     }
     Ok(())
@@ -987,6 +1040,8 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         static_contact_error: None,
         speed_up: None,
         case: String::new(),
+        events: events_and_gaps(&res).0,
+        gaps: events_and_gaps(&res).1,
     });
     Ok(Some(FoPeak { point: p, warning, edge }))
 }
@@ -1121,6 +1176,8 @@ fn reduced_level(
         static_contact_error,
         speed_up: None,
         case: String::new(),
+        events: events_and_gaps(res).0,
+        gaps: events_and_gaps(res).1,
     };
     if let Some(FoPeak { point: fo, warning: fo_warning, edge: fo_edge }) = fo_peak {
         // the ROM at the full-order resonance frequency, from its nearest sweep point

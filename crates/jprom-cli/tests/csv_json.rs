@@ -22,7 +22,7 @@ fn csv_has_every_harmonic_of_every_output_and_the_summary_its_end_reasons() {
         expected.extend((0..=3).map(|h| format!("x{h}_out{j}_lu")));
     }
     expected.extend((0..=3).map(|h| format!("e_star_{h}")));
-    for name in ["iterations", "residual", "stick_samples", "slip_samples", "separated_samples", "dissipated_energy_flu", "sweep_end"] {
+    for name in ["iterations", "residual", "stick_samples", "slip_samples", "separated_samples", "dissipated_energy_flu", "events_after", "sweep_end"] {
         expected.push(name.into());
     }
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
@@ -56,6 +56,17 @@ fn csv_has_every_harmonic_of_every_output_and_the_summary_its_end_reasons() {
         assert_eq!(row["end"], "reached_end");
         assert_eq!(row["end_reason"], "reached the band's end");
         assert!(rows.iter().all(|r| r[col("sweep_end")] == "reached_end"));
+        // each event of the summary is marked on the CSV row before it, and nothing else is
+        let events = row["events"].as_array().expect("events in the summary");
+        let marked: Vec<usize> = rows.iter().enumerate().filter(|(_, r)| !r[col("events_after")].is_empty()).map(|(i, _)| i).collect();
+        let mut after: Vec<usize> = events.iter().map(|e| e["after_point"].as_u64().unwrap() as usize).collect();
+        after.dedup();
+        assert_eq!(marked, after, "{file}: events {events:?}");
+        for e in events {
+            let r = &rows[e["after_point"].as_u64().unwrap() as usize];
+            assert!(r[col("events_after")].split('+').any(|k| k == e["kind"]), "{file}: {e} against {r:?}");
+        }
+        assert!(row["gaps"].as_array().is_some_and(|g| g.is_empty()) && rows.iter().all(|r| !r[col("events_after")].contains("gap")), "{file}: gaps");
         let (basis, total) = (row["basis_seconds"].as_f64().unwrap(), row["sweep_seconds"].as_f64().unwrap());
         if solver == "NLR" {
             assert!(basis > 0.0 && basis < total, "basis {basis} s of {total} s");

@@ -1,5 +1,5 @@
 //! A sweep through a friction-damped resonance whose branch has many stick-slip kinks, each
-//! stepped over at fixed frequency (the continuation's restart, docs/formulation.md §6.4): the
+//! stepped over at fixed frequency (a gap of the continuation, docs/formulation.md §6.6): the
 //! demo's study on the 18-contact blade (refinement 1, CB(50), 1,620-2,200 Hz) at alpha_ST / 20, NLR on the basis
 //! predicted at the demo's largest excitation with the slipping samples
 //! (`SlippingSamples::AtGrossSlip`). With at most 10 restarts per sweep it stalled at 90.5 % of

@@ -193,10 +193,11 @@ impl Mesh {
     /// A CalculiX deck of the mesh (C3D8, node `i` numbered `i + 1`), its root clamped by
     /// `*BOUNDARY`, one material per body, node sets `ROOT` and `NALL`, and the
     /// `*FREQUENCY, SOLVER=MATRIXSTORAGE` step that makes `ccx` write `K`, `M` and the rows.
+    /// Numbers have 14 significant digits: `ccx` refuses a field longer than 20 characters.
     pub fn calculix_deck(&self) -> String {
         let mut s = String::from("*HEADING\njprom robustness campaign cantilever\n*NODE, NSET=NALL\n");
         for (i, x) in self.coords.iter().enumerate() {
-            writeln!(s, "{}, {:.17e}, {:.17e}, {:.17e}", i + 1, x[0], x[1], x[2]).unwrap();
+            writeln!(s, "{}, {:.13e}, {:.13e}, {:.13e}", i + 1, x[0], x[1], x[2]).unwrap();
         }
         let mut materials: Vec<Material> = Vec::new();
         for (_, m) in &self.elements {
@@ -219,7 +220,7 @@ impl Mesh {
             writeln!(s, "{}", chunk.join(", ")).unwrap();
         }
         for (mi, mat) in materials.iter().enumerate() {
-            writeln!(s, "*MATERIAL, NAME=M{mi}\n*ELASTIC\n{:.17e}, {:.17e}\n*DENSITY\n{:.17e}", mat.young, mat.poisson, mat.density).unwrap();
+            writeln!(s, "*MATERIAL, NAME=M{mi}\n*ELASTIC\n{:.13e}, {:.13e}\n*DENSITY\n{:.13e}", mat.young, mat.poisson, mat.density).unwrap();
             writeln!(s, "*SOLID SECTION, ELSET=E{mi}, MATERIAL=M{mi}").unwrap();
         }
         s.push_str("*BOUNDARY\nROOT, 1, 3\n*STEP\n*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n");
