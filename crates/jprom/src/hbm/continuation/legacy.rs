@@ -36,7 +36,7 @@
 //! * **Step control**: after a success `ds` is scaled by the smaller of
 //!   `target_iterations / iterations` and `max_angle / (2 kappa ds)`, `kappa` the smaller turn
 //!   per unit arclength (the angle between successive chords over `ds`) of this step and the
-//!   last (a kink turns one step alone: docs/formulation.md §6.5), each clamped to `[1/2, 2]`,
+//!   last (a kink turns one step alone: docs/formulation.md §6.8), each clamped to `[1/2, 2]`,
 //!   within `[min_step, max_step]`, and capped so that
 //!   `omega` moves by at most `max_omega_step` of the band; a failed corrector halves `ds`.
 //! * **Restart**: when `ds` falls below `min_step` (a corrector that cannot settle on a kink),
@@ -82,7 +82,7 @@ pub(crate) const MAX_RESTARTS: usize = 1000;
 /// shortening the steps for it only adds points (that sweep took 1,385 points, 1,280 of them
 /// within 40 Hz of the resonance). From the first such step on, turns below the sharp turn
 /// ([`sharp_turn`], which is still retried shorter) no longer shorten the steps below its
-/// length (docs/formulation.md §6.5).
+/// length (docs/formulation.md §6.8).
 pub(crate) fn is_kink_turn((ds_last, angle_last): (f64, f64), (ds, angle): (f64, f64), sopts: &SweepOptions) -> bool {
     ds <= 0.75 * ds_last && angle > 0.5 * sopts.max_angle && angle >= CORNER_RATIO * angle_last
 }
@@ -362,7 +362,7 @@ mod tests {
     use super::*;
 
     /// A turn that shrinks with the step is curvature; one that does not, at a shorter step,
-    /// is a kink (docs/formulation.md §6.5); small turns never count.
+    /// is a kink (docs/formulation.md §6.8); small turns never count.
     #[test]
     fn turns_that_do_not_shrink_with_the_step_are_kinks() {
         let sopts = SweepOptions::band(1.0, 2.0);
