@@ -65,6 +65,16 @@ program host_law
     if (jp_solve_point_from(host, omega, opts, guess, sol, msg) /= JPROM_OK) call fail('jp_solve_point_from')
     if (jp_solution_amplitude(sol, 1, 1, b) /= JPROM_OK) call fail('jp_solution_amplitude')
     if (jp_solution_convergence(sol, it, residual) /= JPROM_OK) call fail('jp_solution_convergence')
+    if (abs(a - b) > 1d-8 * abs(a)) then
+      ! near a fold the frequency has several solutions and Newton from the previous point may
+      ! land on another one: solve again from the point itself
+      s = jp_solution_free(sol)
+      s = jp_solution_free(guess)
+      if (jp_sweep_solution(sweep, i, guess, msg) /= JPROM_OK) call fail('jp_sweep_solution')
+      if (jp_solve_point_from(host, omega, opts, guess, sol, msg) /= JPROM_OK) call fail('jp_solve_point_from')
+      if (jp_solution_amplitude(sol, 1, 1, b) /= JPROM_OK) call fail('jp_solution_amplitude')
+      if (jp_solution_convergence(sol, it, residual) /= JPROM_OK) call fail('jp_solution_convergence')
+    end if
     write (*, '(i0,3(1x,es17.10e2))') i - 1, omega, a, b
     iterations = iterations + it
     ! folds (the sweep turns back in frequency) are not compared: two solutions meet there
