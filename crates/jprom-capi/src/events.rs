@@ -124,11 +124,7 @@ pub unsafe extern "C" fn jprom_sweep_result_gap(sweep: *const jprom_sweep_result
 #[no_mangle]
 pub unsafe extern "C" fn jprom_sweep_result_gap_reason_copy(sweep: *const jprom_sweep_result, index: usize, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
     ffi_guard!({
-        let text = gap(sweep, index)?.reason.clone();
-        match crate::status::copy_text(text.as_bytes(), buf, len, written) {
-            jprom_status::JPROM_OK => Ok(()),
-            jprom_status::JPROM_NULL_ARGUMENT => Err(FfiError::null("buf")),
-            status => Err(FfiError::new(status, format!("buf: {len} bytes hold {} of the text's {} (and the NUL)", len.saturating_sub(1), text.len()))),
-        }
+        let text = gap(sweep, index)?.reason.as_str();
+        crate::status::copy_result_text(text, buf, len, written)
     })
 }

@@ -484,12 +484,8 @@ pub unsafe extern "C" fn jprom_sweep_result_reached_end(sweep: *const jprom_swee
 pub unsafe extern "C" fn jprom_sweep_result_failure_copy(sweep: *const jprom_sweep_result, buf: *mut c_char, len: usize, written: *mut usize) -> jprom_status {
     ffi_guard!({
         let s = handle::get(sweep, "sweep")?;
-        let text = s.record.sweep.failure.clone().unwrap_or_default();
-        match crate::status::copy_text(text.as_bytes(), buf, len, written) {
-            jprom_status::JPROM_OK => Ok(()),
-            jprom_status::JPROM_NULL_ARGUMENT => Err(FfiError::null("buf")),
-            status => Err(FfiError::new(status, format!("buf: {len} bytes hold {} of the text's {} (and the NUL)", len.saturating_sub(1), text.len()))),
-        }
+        let text = s.record.sweep.failure.as_deref().unwrap_or_default();
+        crate::status::copy_result_text(text, buf, len, written)
     })
 }
 

@@ -182,6 +182,19 @@ pub(crate) unsafe fn copy_text(text: &[u8], buf: *mut c_char, len: usize, writte
     }
 }
 
+/// [`copy_text`] of a result's text as an [`FfiError`]: `JPROM_NULL_ARGUMENT` for a NULL
+/// `buf`, `JPROM_BAD_SIZE` with how much of the text `buf` holds when truncated.
+///
+/// # Safety
+/// As [`copy_text`].
+pub(crate) unsafe fn copy_result_text(text: &str, buf: *mut c_char, len: usize, written: *mut usize) -> Result<(), FfiError> {
+    match copy_text(text.as_bytes(), buf, len, written) {
+        jprom_status::JPROM_OK => Ok(()),
+        jprom_status::JPROM_NULL_ARGUMENT => Err(FfiError::null("buf")),
+        status => Err(FfiError::new(status, format!("buf: {len} bytes hold {} of the text's {} (and the NUL)", len.saturating_sub(1), text.len()))),
+    }
+}
+
 /// Name of a status code ("JPROM_OK", ...), or "JPROM_UNKNOWN_STATUS". Static storage.
 #[no_mangle]
 pub extern "C" fn jprom_status_name(status: c_int) -> *const c_char {
