@@ -1015,6 +1015,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
     });
     let warning = (!res.reached_end()).then(|| format!("errors taken against a full-order sweep that did not cover the band ({})", res.end.name()));
     c.energies_at_peak.push((c.rows.len(), p.contact_cycles.iter().map(|c| c.dissipated_energy).collect(), Vec::new()));
+    let (events, gaps) = events_and_gaps(&res);
     c.rows.push(SolverRow {
         level,
         solver: "FO (condensed)".into(),
@@ -1040,8 +1041,8 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         static_contact_error: None,
         speed_up: None,
         case: String::new(),
-        events: events_and_gaps(&res).0,
-        gaps: events_and_gaps(&res).1,
+        events,
+        gaps,
     });
     Ok(Some(FoPeak { point: p, warning, edge }))
 }
@@ -1151,6 +1152,7 @@ fn reduced_level(
             aopts.threshold
         ));
     }
+    let (events, gaps) = events_and_gaps(res);
     let mut row = SolverRow {
         level,
         solver: name.to_string(),
@@ -1176,8 +1178,8 @@ fn reduced_level(
         static_contact_error,
         speed_up: None,
         case: String::new(),
-        events: events_and_gaps(res).0,
-        gaps: events_and_gaps(res).1,
+        events,
+        gaps,
     };
     if let Some(FoPeak { point: fo, warning: fo_warning, edge: fo_edge }) = fo_peak {
         // the ROM at the full-order resonance frequency, from its nearest sweep point
