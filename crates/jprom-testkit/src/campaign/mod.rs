@@ -78,6 +78,16 @@ pub struct RomChecks {
     pub worst_x1_when_good: f64,
     /// The judged error of the self-correcting sweep.
     pub judged: f64,
+    /// Points where the paper's `e*_1` alone is below `e_1` (above 1e-6): what the checks
+    /// correct.
+    pub e_star_below_e: usize,
+    /// Whether the sweep says it can be trusted, and why not.
+    pub trusted: bool,
+    pub trust_reason: Option<String>,
+    /// The reduced peak (largest X1 of the sweep) against the full order's: relative errors
+    /// of its frequency and of its X1.
+    pub peak_omega_error: f64,
+    pub peak_x1_error: f64,
 }
 
 /// One sweep of the campaign and its checks.
@@ -270,22 +280,31 @@ pub fn run_level(index: usize, built: &Built, level: f64, harmonics: usize, nt: 
             RomKind::Nlr => Box::new(NlrRom::new(&condensed, &a.basis).expect("the sweep's own basis")),
         };
         o.cold = cold_checks(rom.as_ref(), &a.sweep, &hopts, cold_points, &mut rng);
-        let mut checks = RomChecks { judged: a.worst_error, ..RomChecks::default() };
-        for (q, e_star) in a.sweep.points.iter().zip(&a.predicted_errors) {
+        let peak = |r: &SweepResult| r.points.iter().max_by(|a, b| x1(a).total_cmp(&x1(b))).map(|p| (p.omega, x1(p)));
+        let (peak_omega_error, peak_x1_error) = match (peak(&a.sweep), peak(&fo)) {
+            (Some((wr, xr)), Some((wf, xf))) => ((wr - wf).abs() / wf, (xr - xf).abs() / xf.max(1e-300)),
+            _ => (f64::INFINITY, f64::INFINITY),
+        };
+        let mut checks = RomChecks { judged: a.worst_error, trusted: a.trust.trusted, trust_reason: a.trust.reason.clone(), peak_omega_error, peak_x1_error, ..RomChecks::default() };
+        let judged = a.judged_errors();
+        for ((q, paper), &e_star) in a.sweep.points.iter().zip(&a.predicted_errors).zip(&judged) {
             let Some(f) = full_order_at(&condensed, &fo, q.omega, x1(q), &hopts) else { continue };
             let Ok(e) = actual_error(rom.as_ref(), q.omega, &q.z, &f) else { continue };
             checks.compared += 1;
             let x1_error = (x1(q) - x1(&f)).abs() / x1(&f).max(1e-300);
             if e[1] > 1e-6 {
                 checks.above_floor += 1;
-                if e_star[1] < e[1] {
-                    checks.not_conservative.push((q.omega, e_star[1], e[1]));
+                if e_star < e[1] {
+                    checks.not_conservative.push((q.omega, e_star, e[1]));
+                }
+                if paper[1] < e[1] {
+                    checks.e_star_below_e += 1;
                 }
             }
-            if e_star[1] < POOR_BASIS_THRESHOLD {
+            if e_star < POOR_BASIS_THRESHOLD {
                 checks.worst_x1_when_good = checks.worst_x1_when_good.max(x1_error);
                 if x1_error > X1_WHEN_GOOD {
-                    checks.called_good_but_wrong.push((q.omega, e_star[1], x1_error));
+                    checks.called_good_but_wrong.push((q.omega, e_star, x1_error));
                 }
             }
         }
@@ -352,12 +371,16 @@ pub fn print_outcome(o: &Outcome) {
     let cold = &o.cold;
     let rom = o.rom.as_ref().map_or(String::new(), |r| {
         format!(
-            ", e*<e at {}/{}, called good but X1 off by > 1 %: {}, worst X1 when good {:.1e}, judged {:.1e}",
+            ", judged<e at {}/{} (paper e* < e at {}), called good but X1 off by > 1 %: {}, worst X1 when good {:.1e}, judged {:.1e}, peak off by {:.1e} in omega, {:.1e} in X1, {}",
             r.not_conservative.len(),
             r.above_floor,
+            r.e_star_below_e,
             r.called_good_but_wrong.len(),
             r.worst_x1_when_good,
-            r.judged
+            r.judged,
+            r.peak_omega_error,
+            r.peak_x1_error,
+            r.trust_reason.as_ref().map_or("trusted".to_string(), |w| format!("not trusted: {w}"))
         )
     });
     println!(
@@ -409,6 +432,8 @@ pub fn print_summary(outcomes: &[Outcome], seconds: f64) {
         let wrong: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.called_good_but_wrong.len()).sum();
         let not_cons: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.not_conservative.len()).sum();
         let above: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.above_floor).sum();
+        let paper: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.e_star_below_e).sum();
+        let untrusted = of.iter().filter_map(|o| o.rom.as_ref()).filter(|r| !r.trusted).count();
         let time: f64 = of.iter().map(|o| o.seconds).sum();
         println!(
             "{:>3}: {} sweeps, {} reached the end ({} with gaps), {} stalled, {} point cap, {} left the band, {} errors; {} ran below the band by > 10 %; median {} points; cold starts {} checked, {} disagree, {} failed{}; {:.1} s",
@@ -425,7 +450,7 @@ pub fn print_summary(outcomes: &[Outcome], seconds: f64) {
             checked,
             disagree,
             cold_failed,
-            if solver == Solver::Fo { String::new() } else { format!("; e* < e at {not_cons} of {above} points, {wrong} points called good with X1 off by > 1 %") },
+            if solver == Solver::Fo { String::new() } else { format!("; judged error < e at {not_cons} of {above} points (the paper's e* alone at {paper}), {wrong} points called good with X1 off by > 1 %, {untrusted} not trusted") },
             time
         );
     }

@@ -116,6 +116,37 @@ impl ModelSpec {
         }
     }
 
+    /// The class of issue 59's public model, generated: a cantilever plate whose end, inclined
+    /// by `incline` (rad), is pressed by a static force against a rigid wall through every node
+    /// of its end face (`(nx + 1) 3` nodes: 27 to 57 for `nx` 8 to 18), one normal for the
+    /// patch, penalty stiffnesses from the nodes' areas, `mu` 0.36; liftoff over part of the
+    /// cycle at the middle levels.
+    pub fn inclined_patch(nx: usize, incline: f64) -> ModelSpec {
+        ModelSpec {
+            body: Body {
+                length: 120.0,
+                chord: 30.0,
+                thickness: 4.0,
+                taper: 0.8,
+                twist: 0.0,
+                end: EndShape::Inclined(incline),
+                nx,
+                ny: 2,
+                nz: 12,
+                material: Material::STEEL_MM_TONNE,
+            },
+            site: Site::EndPatch { fraction: 1.0 },
+            closure: Closure::StaticForce,
+            mu: 0.36,
+            kt_over_kn: 1.0,
+            stiffness_ratio: 300.0,
+            g: 1e-3,
+            cb_modes: 12,
+            zeta: 0.004,
+            seed: 59,
+        }
+    }
+
     /// One line for a report.
     pub fn describe(&self) -> String {
         let b = &self.body;

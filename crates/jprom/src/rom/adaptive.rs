@@ -62,8 +62,8 @@ use super::{ReducedModel, RomKind};
 use crate::aft::Discretisation;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
-use crate::rom::error_metric::{linearised_errors, POOR_BASIS_THRESHOLD};
-use crate::hbm::{HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
+use crate::rom::error_metric::{checked_error, CheckBasis, POOR_BASIS_THRESHOLD};
+use crate::hbm::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use crate::jp::{predict_basis, predict_modes, GeneratingShape, JpBasis, PredictedModes, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
 use serde::{Deserialize, Serialize};
@@ -138,6 +138,36 @@ pub(crate) const CHECKED_POINTS: usize = 3;
 /// factorises (a dense LU: about 10 s at this size on 2 cores).
 pub(crate) const MAX_CHECK_UNKNOWNS: usize = 12_000;
 
+/// Largest condensed full-order system, `(2H + 1) n_w` unknowns, at which every point of a pass
+/// is checked (each check about one full-order Newton iteration: 0.1 s at this size on 2
+/// cores). Above it, the reduced resonance, the [`CHECKED_POINTS`] points of largest `e*` and
+/// [`SPREAD_CHECKS`] points spread along the branch are; the others are judged by `e*`.
+pub(crate) const EVERY_POINT_CHECK_UNKNOWNS: usize = 3_000;
+
+/// Points spread evenly along a pass' branch that are checked when not every point is.
+pub(crate) const SPREAD_CHECKS: usize = 8;
+
+/// The points of a pass to check: all of them on a condensed system of at most
+/// [`EVERY_POINT_CHECK_UNKNOWNS`] unknowns, else `peak`, the points of largest `e*_1` and
+/// points spread along the branch, each once.
+fn checked_points(errors: &[Vec<f64>], peak: usize, unknowns: usize) -> Vec<usize> {
+    let n = errors.len();
+    if unknowns <= EVERY_POINT_CHECK_UNKNOWNS {
+        return (0..n).collect();
+    }
+    let mut by_error: Vec<usize> = (0..n).collect();
+    by_error.sort_by(|&a, &b| errors[b][1].total_cmp(&errors[a][1]));
+    let mut at = vec![peak];
+    at.extend(by_error.into_iter().filter(|&i| i != peak).take(CHECKED_POINTS));
+    for k in 0..SPREAD_CHECKS {
+        let i = (k * n.saturating_sub(1)) / SPREAD_CHECKS.saturating_sub(1).max(1);
+        if !at.contains(&i) {
+            at.push(i);
+        }
+    }
+    at
+}
+
 /// A point of a pass where the linearised error was checked.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ErrorCheck {
@@ -154,6 +184,19 @@ pub struct ErrorCheck {
     /// [`AdaptiveSweep::worst_static_error`] reports it.
     #[serde(default)]
     pub static_displacement: f64,
+    /// The checked error `e_1` there ([`crate::rom::error_metric::checked_error`]): the
+    /// linearised error over `1 - θ` where the chord iteration contracts, else the actual error
+    /// against the full-order solution reached from the point (infinite where none is). It
+    /// judges the pass.
+    #[serde(default)]
+    pub checked: f64,
+    /// How `checked` was reached.
+    #[serde(default = "check_basis_default")]
+    pub basis: CheckBasis,
+}
+
+fn check_basis_default() -> CheckBasis {
+    CheckBasis::Contracting
 }
 
 /// Why the self-correcting sweep stopped correcting.
@@ -239,9 +282,53 @@ pub struct AdaptiveSweep {
     pub worst_error: f64,
     /// Why the corrections stopped.
     pub end: CorrectionEnd,
+    /// Whether the final sweep can be trusted, and if not why ([`Trust`]).
+    pub trust: Trust,
+}
+
+/// Whether a self-correcting sweep's result can be trusted (docs/formulation.md §10.7): its
+/// final pass covered the band and every point's judged error is within the threshold (the
+/// checked error where the point was checked, `e*_1` elsewhere). A result that is not trusted
+/// says why; its peak is not the reduced model's resonance.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Trust {
+    pub trusted: bool,
+    /// Why not (`None` when trusted).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+impl Trust {
+    /// The verdict on a final pass `sweep` whose points are judged by `judged` (one value per
+    /// point, NaN as the worst) against `threshold`.
+    pub fn of(sweep: &SweepResult, judged: &[f64], threshold: f64) -> Trust {
+        let mut why = Vec::new();
+        if !sweep.reached_end() {
+            let at = sweep.points.last().map_or(String::new(), |p| format!(" at {:.6e} rad/s", p.omega));
+            let failure = sweep.failure.as_ref().map_or(String::new(), |f| format!(": {f}"));
+            why.push(format!("the final reduced sweep did not cover the band ({}{at}{failure})", sweep.end.name()));
+        }
+        let above: Vec<usize> = (0..judged.len()).filter(|&i| !(judged[i] <= threshold)).collect();
+        if let Some(&w) = above.iter().max_by(|&&a, &&b| nan_as_worst(judged[a]).total_cmp(&nan_as_worst(judged[b]))) {
+            let e = nan_as_worst(judged[w]);
+            let value = if e.is_finite() { format!("{e:.3e}") } else { "not bounded".into() };
+            why.push(format!("at {} of {} points the judged error is above the threshold {threshold} (worst {value}, at {:.6e} rad/s)", above.len(), judged.len(), sweep.points[w].omega));
+        }
+        if why.is_empty() {
+            Trust { trusted: true, reason: None }
+        } else {
+            Trust { trusted: false, reason: Some(why.join("; ")) }
+        }
+    }
 }
 
 impl AdaptiveSweep {
+    /// The judged error `e_1` at every point of the final sweep: the checked error
+    /// ([`ErrorCheck::checked`]) where the point was checked, `e*_1` elsewhere.
+    pub fn judged_errors(&self) -> Vec<f64> {
+        judged_errors(&self.predicted_errors, &self.checks)
+    }
+
     /// The largest linearised error of the static contact displacement at the final pass'
     /// checks ([`ErrorCheck::static_displacement`]; `None` without checks). Above the
     /// threshold the static term `X0` is poor even where the first harmonic is within it.
@@ -286,19 +373,15 @@ fn run_pass(
     if let Some(condensed) = condensed {
         let amplitude = |p: &PointSolution| if response < p.n_outputs { p.output_amplitude(1, response) } else { 0.0 };
         let peak = (0..sw.points.len()).max_by(|&a, &b| amplitude(&sw.points[a]).total_cmp(&amplitude(&sw.points[b]))).unwrap_or(0);
-        let mut by_error: Vec<usize> = (0..sw.points.len()).collect();
-        by_error.sort_by(|&a, &b| errors[b][1].total_cmp(&errors[a][1]));
-        let mut at = vec![peak];
-        at.extend(by_error.into_iter().filter(|&i| i != peak).take(CHECKED_POINTS));
         let (mut judged, mut judged_at) = (-1.0f64, 0);
-        for i in at {
+        for i in checked_points(&errors, peak, condensed.layout().total()) {
             let p = &sw.points[i];
             // A singular full-order Jacobian at this point leaves it unchecked.
-            if let Ok(lin) = linearised_errors(rom, condensed, p.omega, &p.z) {
-                let e = &lin.force;
-                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1], static_displacement: lin.static_displacement });
-                if !(e[1] <= judged) {
-                    judged = nan_as_worst(e[1]);
+            if let Ok(c) = checked_error(rom, condensed, p.omega, &p.z, hopts) {
+                let e = nan_as_worst(c.error[1]);
+                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: c.linearised.force[1], static_displacement: c.linearised.static_displacement, checked: e, basis: c.basis });
+                if !(e <= judged) {
+                    judged = e;
                     judged_at = i;
                 }
             }
@@ -308,7 +391,25 @@ fn run_pass(
             worst_at = judged_at;
         }
     }
+    // A pass that did not cover the band (stalled, capped, left it) is judged infinite at its
+    // last point: it is corrected from there, and never within the threshold.
+    if matches!(sw.end, SweepEnd::StepTooSmall | SweepEnd::MaxPoints | SweepEnd::LeftBand) {
+        worst = f64::INFINITY;
+        worst_at = sw.points.len() - 1;
+    }
     Ok(Pass { sweep: sw, errors, checks, worst: worst.max(0.0), worst_at })
+}
+
+/// The judged error `e_1` per point: the checked error where the point was checked, `e*_1`
+/// elsewhere.
+pub(crate) fn judged_errors(errors: &[Vec<f64>], checks: &[ErrorCheck]) -> Vec<f64> {
+    let mut judged: Vec<f64> = errors.iter().map(|e| e.get(1).copied().unwrap_or(0.0)).collect();
+    for c in checks {
+        if let Some(j) = judged.get_mut(c.index) {
+            *j = c.checked;
+        }
+    }
+    judged
 }
 
 /// A basis of the self-correcting sweep with its reduced model and what judged it.
@@ -354,7 +455,7 @@ impl Judged {
 /// check fails (a singular full-order Jacobian).
 fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts: &HbmOptions) -> Option<(Vec<f64>, f64)> {
     let p = crate::hbm::solve_point(rom, omega, None, hopts).ok()?;
-    let e = linearised_errors(rom, condensed, omega, &p.z).ok()?.force[1];
+    let e = checked_error(rom, condensed, omega, &p.z, hopts).ok()?.error[1];
     Some((p.z, nan_as_worst(e)))
 }
 
@@ -793,7 +894,9 @@ pub fn adaptive_sweep_from(
         }
     };
     let (basis, prediction) = (cur.basis, cur.prediction);
-    Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks: pass.checks, worst_error: pass.worst, end })
+    let judged = judged_errors(&pass.errors, &pass.checks);
+    let trust = Trust::of(&pass.sweep, &judged, aopts.threshold);
+    Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks: pass.checks, worst_error: pass.worst, end, trust })
 }
 
 #[cfg(test)]

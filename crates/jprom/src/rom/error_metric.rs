@@ -41,7 +41,8 @@ use crate::condensation::CondensedSystem;
 use crate::hbm::residual::{evaluate, ResidualWorkspace};
 use crate::hbm::HarmonicSystem;
 use crate::error::{JpError, Result};
-use crate::hbm::PointSolution;
+use crate::hbm::{HbmOptions, PointSolution};
+use serde::{Deserialize, Serialize};
 use crate::rom::ReducedModel;
 
 /// Threshold of `e*_1` above which a basis is called poor (the paper's practical limit).
@@ -192,6 +193,20 @@ pub struct LinearisedErrors {
 /// # Errors
 /// As [`linearised_error`].
 pub fn linearised_errors(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64]) -> Result<LinearisedErrors> {
+    Ok(newton_probe(rom, condensed, omega, z, false)?.errors)
+}
+
+/// One Newton step of the condensed full-order system from a reduced solution, and on request
+/// a second (chord) step with the same factorisation.
+struct Probe {
+    errors: LinearisedErrors,
+    /// `|δw_2| / |δw_1|` (0 where `δw_1 = 0`); `None` without the second step.
+    contraction: Option<f64>,
+    /// `w + δw_1`: the start of a full-order Newton solve where the contraction is poor.
+    corrected: Vec<f64>,
+}
+
+fn newton_probe(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64], second_step: bool) -> Result<Probe> {
     let hh = rom.layout().harmonics;
     let nw = rom.n_contact_coords();
     if condensed.layout().harmonics != hh || condensed.n_contact_coords() != nw {
@@ -210,10 +225,78 @@ pub fn linearised_errors(rom: &dyn ReducedModel, condensed: &CondensedSystem, om
     let f_new = split(&contact_forces_with(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
     let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    Ok(LinearisedErrors {
+    let contraction = if second_step {
+        let (r2, _) = evaluate(condensed, &lin, Some(plan), &corrected, false, &mut ws)?;
+        let dw2 = crate::linalg::lu_solve(&lu, &r2);
+        let (a, b) = (norm(&dw2), norm(&dw));
+        Some(if b > 0.0 { a / b } else if a == 0.0 { 0.0 } else { f64::INFINITY })
+    } else {
+        None
+    };
+    let errors = LinearisedErrors {
         force: (0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect(),
         static_displacement: ratio(norm(&dw[..nw]), norm(&corrected[..nw])),
-    })
+    };
+    Ok(Probe { errors, contraction, corrected })
+}
+
+/// Largest contraction `θ` of the chord step for which [`checked_error`] takes the linearised
+/// error as the estimate `e_lin / (1 - θ)`.
+pub const MAX_CONTRACTION: f64 = 0.5;
+
+/// How [`checked_error`] reached its estimate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CheckBasis {
+    /// The chord iteration from the reduced point contracts (`θ <= 1/2`): the estimate is
+    /// `e_lin / (1 - θ)`.
+    Contracting,
+    /// It does not: the full-order solution Newton reaches from the reduced point judged it
+    /// (the actual error (44) against that solution).
+    Solved,
+    /// Neither: no full-order solution was reached from the reduced point; the estimate is
+    /// infinite.
+    Unverified,
+}
+
+/// The checked error of a reduced point ([`checked_error`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckedError {
+    /// The linearised errors of the first Newton step.
+    pub linearised: LinearisedErrors,
+    /// `θ = |δw_2| / |δw_1|`, the chord iteration's contraction.
+    pub contraction: f64,
+    /// The estimate per harmonic, `h = 0..=H` (see [`CheckBasis`]).
+    pub error: Vec<f64>,
+    pub basis: CheckBasis,
+}
+
+/// The error of the reduced solution `z` at `omega` as the self-correcting sweep checks it
+/// (docs/formulation.md §10.7). One Newton step `δw_1 = -J^-1 r` of the condensed full-order
+/// system from the reduced contact motion `w` gives `e_lin` ([`linearised_errors`]); a second
+/// step with the same factorisation, `δw_2 = -J^-1 r(w + δw_1)`, measures the contraction
+/// `θ = |δw_2| / |δw_1|` of that (chord) iteration. Where `θ <= 1/2` the iteration converges to
+/// a full-order solution `w_FO` with `|w_FO - w| <= |δw_1| / (1 - θ)`, and the estimate is
+/// `e_lin_h / (1 - θ)`. Where it is larger (a contact changing state within the step, a fold
+/// near), Newton is run from `w + δw_1` to a full-order solution and the actual error (44)
+/// against it is the estimate; where none is reached the estimate is infinite: such a point is
+/// never called good. The cost: one factorisation and two AFT evaluations, plus a Newton solve
+/// where the chord iteration does not contract.
+///
+/// # Errors
+/// As [`linearised_error`].
+pub fn checked_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64], hopts: &HbmOptions) -> Result<CheckedError> {
+    let probe = newton_probe(rom, condensed, omega, z, true)?;
+    let theta = probe.contraction.unwrap_or(f64::INFINITY);
+    if theta <= MAX_CONTRACTION {
+        let error = probe.errors.force.iter().map(|e| e / (1.0 - theta)).collect();
+        return Ok(CheckedError { linearised: probe.errors, contraction: theta, error, basis: CheckBasis::Contracting });
+    }
+    let solved = crate::hbm::solve_point(condensed, omega, Some(&probe.corrected), hopts).ok();
+    let (error, basis) = match solved.and_then(|fo| actual_error(rom, omega, z, &fo).ok()) {
+        Some(e) => (e, CheckBasis::Solved),
+        None => (vec![f64::INFINITY; rom.layout().harmonics + 1], CheckBasis::Unverified),
+    };
+    Ok(CheckedError { linearised: probe.errors, contraction: theta, error, basis })
 }
 
 /// Relative error of harmonic `h` of the output response, `|X_ROM^h - X_FO^h| / |X_FO^h|`

@@ -12,7 +12,7 @@ pub mod nlr;
 pub mod record;
 pub mod tangent_peak;
 
-pub use adaptive::{adaptive_sweep, adaptive_sweep_from, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck, REGENERATION_SAMPLES};
+pub use adaptive::{adaptive_sweep, adaptive_sweep_from, adaptive_sweep_with_progress, AdaptiveOptions, AdaptiveSweep, Correction, CorrectionEnd, CorrectionKind, ErrorCheck, Trust, REGENERATION_SAMPLES};
 pub use fr::{band_condensed_basis, FrRom};
 pub use nlr::NlrRom;
 pub use record::{CorrectionOutcome, SweepRecord};

@@ -3,7 +3,7 @@
 //! API's sweep handle holds and what a saved reduced sweep contains (a jprom `reduced_sweep`
 //! document), so `e*` and the corrections survive a save and a load.
 
-use super::adaptive::{AdaptiveSweep, Correction, CorrectionEnd};
+use super::adaptive::{AdaptiveSweep, Correction, CorrectionEnd, Trust};
 use crate::error::Result;
 use crate::hbm::SweepResult;
 use crate::jp::JpBasis;
@@ -25,6 +25,15 @@ pub struct SweepRecord {
     /// a reduced sweep saved before jprom kept it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub outcome: Option<CorrectionOutcome>,
+    /// Whether a self-correcting sweep can be trusted, and why not ([`Trust`]; `None` for any
+    /// other sweep and in files saved before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trust: Option<Trust>,
+    /// The judged error `e_1` per point of a self-correcting sweep
+    /// ([`AdaptiveSweep::judged_errors`]; empty for any other sweep). A non-finite error is
+    /// kept as `f64::MAX` (JSON has no infinity); read it with [`SweepRecord::judged_error`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    judged_errors: Vec<f64>,
 }
 
 /// How a self-correcting sweep's corrections ended: why, and the judged error of the final
@@ -56,12 +65,18 @@ impl CorrectionOutcome {
 impl SweepRecord {
     /// A full-order sweep: no `e*`, no corrections.
     pub fn full_order(sweep: SweepResult) -> Self {
-        SweepRecord { sweep, predicted_errors: Vec::new(), corrections: Vec::new(), outcome: None }
+        SweepRecord { sweep, predicted_errors: Vec::new(), corrections: Vec::new(), outcome: None, trust: None, judged_errors: Vec::new() }
     }
 
     /// A reduced sweep with its predicted errors `e*_h` and no corrections.
     pub fn reduced(sweep: SweepResult, predicted_errors: Vec<Vec<f64>>) -> Self {
-        SweepRecord { sweep, predicted_errors, corrections: Vec::new(), outcome: None }
+        SweepRecord { sweep, predicted_errors, corrections: Vec::new(), outcome: None, trust: None, judged_errors: Vec::new() }
+    }
+
+    /// The judged error `e_1` at point `i` of a self-correcting sweep (`+inf` where it was not
+    /// finite); `None` for any other sweep, a file saved before it existed, or `i` out of range.
+    pub fn judged_error(&self, i: usize) -> Option<f64> {
+        self.judged_errors.get(i).map(|&e| if e == f64::MAX { f64::INFINITY } else { e })
     }
 
     /// Whether the record carries reduced-model data (`e*` or corrections).
@@ -75,7 +90,8 @@ impl SweepRecord {
     pub fn with_basis(a: AdaptiveSweep) -> (Self, JpBasis) {
         let static_error = a.worst_static_error().map(|e| if e.is_finite() { e } else { f64::MAX });
         let outcome = CorrectionOutcome { end: a.end, worst_error: a.worst_error.is_finite().then_some(a.worst_error), static_error };
-        (SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections, outcome: Some(outcome) }, a.basis)
+        let judged_errors = a.judged_errors().into_iter().map(|e| if e.is_finite() { e } else { f64::MAX }).collect();
+        (SweepRecord { sweep: a.sweep, predicted_errors: a.predicted_errors, corrections: a.corrections, outcome: Some(outcome), trust: Some(a.trust), judged_errors }, a.basis)
     }
 }
 
@@ -114,6 +130,12 @@ impl Document for SweepRecord {
             if c.worst_error_after.is_nan() || c.worst_error_before.is_nan() {
                 return Ok(bad(format!("corrections[{i}]"), "a worst error is NaN"));
             }
+        }
+        if !self.judged_errors.is_empty() && self.judged_errors.len() != points.len() {
+            return Ok(bad("judged_errors", format!("has {} values, the sweep has {} points", self.judged_errors.len(), points.len())));
+        }
+        if let Some(i) = self.judged_errors.iter().position(|v| !(*v >= 0.0)) {
+            return Ok(bad(format!("judged_errors[{i}]"), format!("must be >= 0, got {}", self.judged_errors[i])));
         }
         if let Some(CorrectionOutcome { worst_error: Some(w), .. }) = self.outcome {
             if !(w >= 0.0) {
