@@ -4,7 +4,7 @@
 use super::guard::{ffi_guard, out_arg};
 use super::handle;
 use super::solve::jprom_sweep_result;
-use super::status::jprom_status::{self, *};
+use super::status::jprom_status;
 use super::status::FfiError;
 use jprom::hbm::{BranchEvent, EventKind, SweepGap};
 use std::ffi::{c_char, c_int};
@@ -49,8 +49,7 @@ pub unsafe extern "C" fn jprom_sweep_result_n_events(sweep: *const jprom_sweep_r
 }
 
 unsafe fn event<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a BranchEvent, FfiError> {
-    let events = &handle::get(sweep, "sweep")?.record.sweep.events;
-    events.get(index).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("event index {index} >= {}", events.len())))
+    crate::guard::index_arg(&handle::get(sweep, "sweep")?.record.sweep.events, index, "event")
 }
 
 /// Event `index` of a sweep: its kind, angular frequency `omega` (rad/s), `omega_tolerance`
@@ -98,8 +97,7 @@ pub unsafe extern "C" fn jprom_sweep_result_n_gaps(sweep: *const jprom_sweep_res
 }
 
 unsafe fn gap<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a SweepGap, FfiError> {
-    let gaps = &handle::get(sweep, "sweep")?.record.sweep.gaps;
-    gaps.get(index).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("gap index {index} >= {}", gaps.len())))
+    crate::guard::index_arg(&handle::get(sweep, "sweep")?.record.sweep.gaps, index, "gap")
 }
 
 /// Gap `index` of a sweep: the angular frequencies (rad/s) of the last point before it and of

@@ -68,6 +68,12 @@ pub(crate) fn out_arg<'a, T>(ptr: *mut T, name: &str) -> Result<&'a mut T, FfiEr
     unsafe { ptr.as_mut() }.ok_or_else(|| FfiError::null(name))
 }
 
+/// Item `index` of a result's list of `what`s (`point`, `event`, ...), or `JPROM_INVALID_VALUE`
+/// ("`what` index `index` >= `len`").
+pub(crate) fn index_arg<'a, T>(items: &'a [T], index: usize, what: &str) -> Result<&'a T, FfiError> {
+    items.get(index).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("{what} index {index} >= {}", items.len())))
+}
+
 /// A caller buffer must hold at least `needed` elements.
 pub(crate) fn check_capacity(name: &str, needed: usize, got: usize) -> Result<(), FfiError> {
     if got < needed {

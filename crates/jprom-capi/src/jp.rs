@@ -648,7 +648,7 @@ pub unsafe extern "C" fn jprom_sweep_result_n_corrections(sweep: *const jprom_sw
 
 /// Correction `index` of a sweep (`JPROM_INVALID_VALUE` beyond its corrections).
 fn correction_at(s: &jprom_sweep_result, index: usize) -> Result<&jprom::rom::Correction, FfiError> {
-    s.record.corrections.get(index).ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("correction index {index} >= {}", s.record.corrections.len())))
+    crate::guard::index_arg(&s.record.corrections, index, "correction")
 }
 
 /// Correction `index` (in order, 0-based) of an adaptive sweep: its kind

@@ -490,12 +490,7 @@ pub unsafe extern "C" fn jprom_sweep_result_failure_copy(sweep: *const jprom_swe
 }
 
 unsafe fn sweep_point<'a>(sweep: *const jprom_sweep_result, index: usize) -> Result<&'a PointSolution, FfiError> {
-    let s = handle::get(sweep, "sweep")?;
-    s.record
-        .sweep
-        .points
-        .get(index)
-        .ok_or_else(|| FfiError::new(JPROM_INVALID_VALUE, format!("point index {index} >= {}", s.record.sweep.points.len())))
+    crate::guard::index_arg(&handle::get(sweep, "sweep")?.record.sweep.points, index, "point")
 }
 
 /// A point of a sweep as a new, independent `jprom_solution` (free it).
