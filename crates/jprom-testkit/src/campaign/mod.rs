@@ -74,6 +74,9 @@ pub struct RomChecks {
     /// `(omega, e*_1, X1 error)` of points called good (`e*_1` below the threshold) with an
     /// X1 error above [`X1_WHEN_GOOD`].
     pub called_good_but_wrong: Vec<(f64, f64, f64)>,
+    /// Those among them with an X1 error above twice the threshold: what the self-correcting
+    /// sweep promises never to call good (docs/formulation.md §10.7).
+    pub called_good_far_off: Vec<(f64, f64, f64)>,
     /// Largest X1 error where `e*_1` is below the threshold.
     pub worst_x1_when_good: f64,
     /// The judged error of the self-correcting sweep.
@@ -84,7 +87,7 @@ pub struct RomChecks {
     /// Whether the sweep says it can be trusted, and why not.
     pub trusted: bool,
     pub trust_reason: Option<String>,
-    /// The reduced peak (largest X1 of the sweep) against the full order's: relative errors
+    /// The reduced peak against the full order's ([`SweepResult::peak_by`] of X1): relative errors
     /// of its frequency and of its X1.
     pub peak_omega_error: f64,
     pub peak_x1_error: f64,
@@ -280,7 +283,7 @@ pub fn run_level(index: usize, built: &Built, level: f64, harmonics: usize, nt: 
             RomKind::Nlr => Box::new(NlrRom::new(&condensed, &a.basis).expect("the sweep's own basis")),
         };
         o.cold = cold_checks(rom.as_ref(), &a.sweep, &hopts, cold_points, &mut rng);
-        let peak = |r: &SweepResult| r.points.iter().max_by(|a, b| x1(a).total_cmp(&x1(b))).map(|p| (p.omega, x1(p)));
+        let peak = |r: &SweepResult| r.peak_by(x1);
         let (peak_omega_error, peak_x1_error) = match (peak(&a.sweep), peak(&fo)) {
             (Some((wr, xr)), Some((wf, xf))) => ((wr - wf).abs() / wf, (xr - xf).abs() / xf.max(1e-300)),
             _ => (f64::INFINITY, f64::INFINITY),
@@ -305,6 +308,9 @@ pub fn run_level(index: usize, built: &Built, level: f64, harmonics: usize, nt: 
                 checks.worst_x1_when_good = checks.worst_x1_when_good.max(x1_error);
                 if x1_error > X1_WHEN_GOOD {
                     checks.called_good_but_wrong.push((q.omega, e_star, x1_error));
+                }
+                if x1_error > 2.0 * POOR_BASIS_THRESHOLD {
+                    checks.called_good_far_off.push((q.omega, e_star, x1_error));
                 }
             }
         }
@@ -371,11 +377,12 @@ pub fn print_outcome(o: &Outcome) {
     let cold = &o.cold;
     let rom = o.rom.as_ref().map_or(String::new(), |r| {
         format!(
-            ", judged<e at {}/{} (paper e* < e at {}), called good but X1 off by > 1 %: {}, worst X1 when good {:.1e}, judged {:.1e}, peak off by {:.1e} in omega, {:.1e} in X1, {}",
+            ", judged<e at {}/{} (paper e* < e at {}), called good but X1 off by > 1 %: {} (> 2x the threshold: {}), worst X1 when good {:.1e}, judged {:.1e}, peak off by {:.1e} in omega, {:.1e} in X1, {}",
             r.not_conservative.len(),
             r.above_floor,
             r.e_star_below_e,
             r.called_good_but_wrong.len(),
+            r.called_good_far_off.len(),
             r.worst_x1_when_good,
             r.judged,
             r.peak_omega_error,
@@ -430,6 +437,7 @@ pub fn print_summary(outcomes: &[Outcome], seconds: f64) {
         let cold_failed: usize = of.iter().map(|o| o.cold.failed.len()).sum();
         let checked: usize = of.iter().map(|o| o.cold.checked).sum();
         let wrong: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.called_good_but_wrong.len()).sum();
+        let far: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.called_good_far_off.len()).sum();
         let not_cons: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.not_conservative.len()).sum();
         let above: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.above_floor).sum();
         let paper: usize = of.iter().filter_map(|o| o.rom.as_ref()).map(|r| r.e_star_below_e).sum();
@@ -450,7 +458,7 @@ pub fn print_summary(outcomes: &[Outcome], seconds: f64) {
             checked,
             disagree,
             cold_failed,
-            if solver == Solver::Fo { String::new() } else { format!("; judged error < e at {not_cons} of {above} points (the paper's e* alone at {paper}), {wrong} points called good with X1 off by > 1 %, {untrusted} not trusted") },
+            if solver == Solver::Fo { String::new() } else { format!("; judged error < e at {not_cons} of {above} points (the paper's e* alone at {paper}), {wrong} points called good with X1 off by > 1 % ({far} by > 2x the threshold), {untrusted} not trusted") },
             time
         );
     }

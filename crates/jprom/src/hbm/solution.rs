@@ -214,6 +214,62 @@ impl SweepResult {
     pub fn reached_end(&self) -> bool {
         self.end == SweepEnd::ReachedEnd
     }
+
+    /// The peak `(omega, amplitude)` of `amplitude` along the branch: the largest point, moved
+    /// to the vertex of the parabola through it and its two neighbours where the three are in
+    /// increasing or decreasing frequency and the vertex lies between the neighbours. A
+    /// friction-damped peak is flat over several continuation steps; the largest point alone
+    /// is off the resonance by up to a step (1 % and more on such a peak), the vertex by much
+    /// less. `None` without points.
+    pub fn peak_by(&self, amplitude: impl Fn(&PointSolution) -> f64) -> Option<(f64, f64)> {
+        let y: Vec<f64> = self.points.iter().map(&amplitude).collect();
+        let k = (0..y.len()).max_by(|&a, &b| y[a].total_cmp(&y[b]))?;
+        let at = (self.points[k].omega, y[k]);
+        if k == 0 || k + 1 == y.len() {
+            return Some(at);
+        }
+        Some(parabola_vertex([self.points[k - 1].omega, at.0, self.points[k + 1].omega], [y[k - 1], y[k], y[k + 1]]).unwrap_or(at))
+    }
+}
+
+/// The vertex of the parabola through three points `(x_i, y_i)` with `x` strictly monotone,
+/// if it is a maximum between `x_0` and `x_2`.
+fn parabola_vertex(x: [f64; 3], y: [f64; 3]) -> Option<(f64, f64)> {
+    let (a, b) = (x[1] - x[0], x[1] - x[2]);
+    if !(a * b < 0.0) {
+        return None;
+    }
+    let (p, q) = (a * (y[1] - y[2]), b * (y[1] - y[0]));
+    let den = p - q;
+    let curvature = ((y[2] - y[1]) / (x[2] - x[1]) - (y[1] - y[0]) / (x[1] - x[0])) / (x[2] - x[0]);
+    if den == 0.0 || !den.is_finite() || !(curvature < 0.0) {
+        return None;
+    }
+    let xv = x[1] - 0.5 * (a * p - b * q) / den;
+    let (lo, hi) = (x[0].min(x[2]), x[0].max(x[2]));
+    if !(lo..=hi).contains(&xv) {
+        return None;
+    }
+    let basis = |i: usize, j: usize, k: usize| (xv - x[j]) * (xv - x[k]) / ((x[i] - x[j]) * (x[i] - x[k]));
+    let yv = y[0] * basis(0, 1, 2) + y[1] * basis(1, 0, 2) + y[2] * basis(2, 0, 1);
+    (yv >= y[1] && yv.is_finite()).then_some((xv, yv))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parabola_vertex;
+
+    #[test]
+    fn the_vertex_of_a_sampled_parabola_is_its_maximum() {
+        let f = |x: f64| 3.0 - 0.5 * (x - 1.3) * (x - 1.3);
+        for xs in [[1.0, 1.2, 1.9], [2.0, 1.5, 0.4]] {
+            let (xv, yv) = parabola_vertex(xs, xs.map(f)).expect("a maximum between the outer points");
+            assert!((xv - 1.3).abs() < 1e-12 && (yv - 3.0).abs() < 1e-12, "{xv} {yv}");
+        }
+        assert!(parabola_vertex([1.0, 1.2, 1.1], [1.0, 2.0, 1.5]).is_none(), "not monotone");
+        assert!(parabola_vertex([0.0, 1.0, 2.0], [0.0, 1.0, 2.0]).is_none(), "a line");
+        assert!(parabola_vertex([0.0, 1.0, 2.0], [2.0, 1.0, 2.0]).is_none(), "a minimum");
+    }
 }
 
 impl SweepEnd {

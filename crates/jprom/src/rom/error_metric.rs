@@ -200,13 +200,18 @@ pub fn linearised_errors(rom: &dyn ReducedModel, condensed: &CondensedSystem, om
 /// a second (chord) step with the same factorisation.
 struct Probe {
     errors: LinearisedErrors,
-    /// `|δw_2| / |δw_1|` (0 where `δw_1 = 0`); `None` without the second step.
+    /// The largest `|δw_k| / |δw_{k-1}|` of the chord steps (0 where `δw_1 = 0`); `None`
+    /// without them.
     contraction: Option<f64>,
     /// `w + δw_1`: the start of a full-order Newton solve where the contraction is poor.
     corrected: Vec<f64>,
+    /// Per harmonic, relative to `|F^h(w)|`: `|F^h(w_K) - F^h(w)|` and `|F^h(w_K) - F^h(w_{K-1})|`
+    /// at the last chord iterates (`K` = [`CHORD_STEPS`], fewer where `θ` exceeded
+    /// [`MAX_CONTRACTION`]); empty without the chord steps.
+    chord: Vec<(f64, f64)>,
 }
 
-fn newton_probe(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64], second_step: bool) -> Result<Probe> {
+fn newton_probe(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, z: &[f64], chord_steps: bool) -> Result<Probe> {
     let hh = rom.layout().harmonics;
     let nw = rom.n_contact_coords();
     if condensed.layout().harmonics != hh || condensed.n_contact_coords() != nw {
@@ -223,32 +228,56 @@ fn newton_probe(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64,
     let corrected: Vec<f64> = w.iter().zip(&dw).map(|(a, d)| a - d).collect();
     let f_rom = split(&contact_forces_with(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
     let f_new = split(&contact_forces_with(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
-    let diff: Vec<Vec<f64>> = f_new.iter().zip(&f_rom).map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect()).collect();
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let contraction = if second_step {
-        let (r2, _) = evaluate(condensed, &lin, Some(plan), &corrected, false, &mut ws)?;
-        let dw2 = crate::linalg::lu_solve(&lu, &r2);
-        let (a, b) = (norm(&dw2), norm(&dw));
-        Some(if b > 0.0 { a / b } else if a == 0.0 { 0.0 } else { f64::INFINITY })
+    let relative = |a: &[Vec<f64>], b: &[Vec<f64>], h: usize| {
+        let d: Vec<Vec<f64>> = a.iter().zip(b).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p - q).collect()).collect();
+        ratio(harmonic_norm(&d, h), harmonic_norm(&f_rom, h))
+    };
+    let (contraction, chord) = if chord_steps {
+        // chord steps with the same factorisation: w_k = w_{k-1} + δw_k, θ the largest
+        // |δw_k| / |δw_{k-1}| met
+        let (mut theta, mut last_step, mut w_k, mut f_prev) = (0.0f64, norm(&dw), corrected.clone(), f_new.clone());
+        let mut f_k = f_new.clone();
+        for _ in 1..CHORD_STEPS {
+            let (r_k, _) = evaluate(condensed, &lin, Some(plan), &w_k, false, &mut ws)?;
+            let dw_k = crate::linalg::lu_solve(&lu, &r_k);
+            let step = norm(&dw_k);
+            theta = theta.max(if last_step > 0.0 { step / last_step } else if step == 0.0 { 0.0 } else { f64::INFINITY });
+            last_step = step;
+            w_k.iter_mut().zip(&dw_k).for_each(|(a, d)| *a -= d);
+            f_prev = std::mem::replace(&mut f_k, split(&contact_forces_with(rom, plan, &w_k, false)?.force, nw, 2 * hh + 1));
+            if !(theta <= MAX_CONTRACTION) {
+                break;
+            }
+        }
+        (Some(theta), (0..=hh).map(|h| (relative(&f_k, &f_rom, h), relative(&f_k, &f_prev, h))).collect())
     } else {
-        None
+        (None, Vec::new())
     };
     let errors = LinearisedErrors {
-        force: (0..=hh).map(|h| ratio(harmonic_norm(&diff, h), harmonic_norm(&f_rom, h))).collect(),
+        force: (0..=hh).map(|h| relative(&f_new, &f_rom, h)).collect(),
         static_displacement: ratio(norm(&dw[..nw]), norm(&corrected[..nw])),
     };
-    Ok(Probe { errors, contraction, corrected })
+    Ok(Probe { errors, contraction, corrected, chord })
 }
+
+/// Chord steps [`checked_error`] takes from a reduced point (the first a Newton step).
+pub const CHORD_STEPS: usize = 3;
 
 /// Largest contraction `θ` of the chord step for which [`checked_error`] takes the linearised
 /// error as the estimate `e_lin / (1 - θ)`.
 pub const MAX_CONTRACTION: f64 = 0.5;
 
+/// Relative and absolute margin [`checked_error`] adds to its estimate: the full-order solution
+/// it stands for is itself converged only to the corrector's tolerance, and another solve of the
+/// same point (from another start) lands within that tolerance of it, not on it.
+pub const CHECK_MARGIN: f64 = 1e-6;
+
 /// How [`checked_error`] reached its estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum CheckBasis {
     /// The chord iteration from the reduced point contracts (`θ <= 1/2`): the estimate is
-    /// `e_lin / (1 - θ)`.
+    /// the chord-iteration estimate of [`checked_error`].
     Contracting,
     /// It does not: the full-order solution Newton reaches from the reduced point judged it
     /// (the actual error (44) against that solution).
@@ -263,7 +292,7 @@ pub enum CheckBasis {
 pub struct CheckedError {
     /// The linearised errors of the first Newton step.
     pub linearised: LinearisedErrors,
-    /// `θ = |δw_2| / |δw_1|`, the chord iteration's contraction.
+    /// `θ`, the chord iteration's contraction (the largest `|δw_k| / |δw_{k-1}|`).
     pub contraction: f64,
     /// The estimate per harmonic, `h = 0..=H` (see [`CheckBasis`]).
     pub error: Vec<f64>,
@@ -272,15 +301,19 @@ pub struct CheckedError {
 
 /// The error of the reduced solution `z` at `omega` as the self-correcting sweep checks it
 /// (docs/formulation.md §10.7). One Newton step `δw_1 = -J^-1 r` of the condensed full-order
-/// system from the reduced contact motion `w` gives `e_lin` ([`linearised_errors`]); a second
-/// step with the same factorisation, `δw_2 = -J^-1 r(w + δw_1)`, measures the contraction
-/// `θ = |δw_2| / |δw_1|` of that (chord) iteration. Where `θ <= 1/2` the iteration converges to
-/// a full-order solution `w_FO` with `|w_FO - w| <= |δw_1| / (1 - θ)`, and the estimate is
-/// `e_lin_h / (1 - θ)`. Where it is larger (a contact changing state within the step, a fold
+/// system from the reduced contact motion `w` gives `e_lin` ([`linearised_errors`]); further
+/// steps with the same factorisation, `δw_k = -J^-1 r(w_{k-1})` ([`CHORD_STEPS`] in all),
+/// measure the contraction `θ = max |δw_k| / |δw_{k-1}|` of that (chord) iteration. Where
+/// `θ <= 1/2` the iteration converges to a full-order solution `w_FO` with
+/// `|w_FO - w_K| <= |δw_K| θ / (1 - θ)`, and the estimate is the larger of `e_lin_h / (1 - θ)`
+/// and the force error at the last iterate plus the geometric tail of the rest,
+/// `(|F^h(w_K) - F^h(w)| + |F^h(w_K) - F^h(w_{K-1})| θ / (1 - θ)) / |F^h(w)|` (the contact
+/// forces are not linear in `w`, so the first alone can fall short), each raised by
+/// [`CHECK_MARGIN`]. Where `θ` is larger (a contact changing state within the steps, a fold
 /// near), Newton is run from `w + δw_1` to a full-order solution and the actual error (44)
 /// against it is the estimate; where none is reached the estimate is infinite: such a point is
-/// never called good. The cost: one factorisation and two AFT evaluations, plus a Newton solve
-/// where the chord iteration does not contract.
+/// never called good. The cost: one factorisation, [`CHORD_STEPS`] residuals and as many
+/// contact-force evaluations, plus a Newton solve where the chord iteration does not contract.
 ///
 /// # Errors
 /// As [`linearised_error`].
@@ -288,12 +321,13 @@ pub fn checked_error(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega:
     let probe = newton_probe(rom, condensed, omega, z, true)?;
     let theta = probe.contraction.unwrap_or(f64::INFINITY);
     if theta <= MAX_CONTRACTION {
-        let error = probe.errors.force.iter().map(|e| e / (1.0 - theta)).collect();
+        let tail = theta / (1.0 - theta);
+        let error = probe.errors.force.iter().zip(&probe.chord).map(|(e_lin, (to_last, last))| (e_lin / (1.0 - theta)).max(to_last + last * tail) * (1.0 + CHECK_MARGIN) + CHECK_MARGIN).collect();
         return Ok(CheckedError { linearised: probe.errors, contraction: theta, error, basis: CheckBasis::Contracting });
     }
     let solved = crate::hbm::solve_point(condensed, omega, Some(&probe.corrected), hopts).ok();
     let (error, basis) = match solved.and_then(|fo| actual_error(rom, omega, z, &fo).ok()) {
-        Some(e) => (e, CheckBasis::Solved),
+        Some(e) => (e.iter().map(|e| e * (1.0 + CHECK_MARGIN) + CHECK_MARGIN).collect(), CheckBasis::Solved),
         None => (vec![f64::INFINITY; rom.layout().harmonics + 1], CheckBasis::Unverified),
     };
     Ok(CheckedError { linearised: probe.errors, contraction: theta, error, basis })
