@@ -134,6 +134,16 @@ int main(void) {
     if (check(jprom_sweep_result_correction_end(rom, &corrections_end, &judged), "jprom_sweep_result_correction_end")) bad = 1;
     printf("# JP: corrections ended: %s, judged error %.3g (threshold %g)\n", jprom_correction_end_name((int)corrections_end), judged,
            jp_opts.threshold);
+    /* whether the result can be trusted: the last pass covered the band and every point's judged
+     * error is within the threshold (docs/formulation.md §10.7); if not, its peak is not the
+     * reduced model's resonance */
+    int trusted = 0;
+    char why[1024] = "";
+    size_t why_len = 0;
+    if (check(jprom_sweep_result_trusted(rom, &trusted), "jprom_sweep_result_trusted")
+        || check(jprom_sweep_result_trust_reason_copy(rom, why, sizeof why, &why_len), "jprom_sweep_result_trust_reason_copy"))
+        bad = 1;
+    printf("# JP: trusted: %s%s%s\n", trusted ? "yes" : "no", trusted ? "" : ": ", why);
     /* the static term's error, reported but not judged (docs/formulation.md §10.6) */
     double w0_error = 0.0;
     if (jprom_sweep_result_static_error(rom, &w0_error) == JPROM_OK)

@@ -443,6 +443,26 @@ module jprom_c
       type(c_ptr), value :: sweep
       real(c_double), intent(out) :: out
     end function
+    integer(c_int) function jprom_sweep_result_trusted(sweep, out) bind(C, name="jprom_sweep_result_trusted")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sweep
+      integer(c_int), intent(out) :: out
+    end function
+    integer(c_int) function jprom_sweep_result_trust_reason_copy(sweep, buf, len, written) &
+        bind(C, name="jprom_sweep_result_trust_reason_copy")
+      import :: c_int, c_size_t, c_ptr, c_char
+      type(c_ptr), value :: sweep
+      character(kind=c_char), dimension(*), intent(out) :: buf
+      integer(c_size_t), value :: len
+      integer(c_size_t), intent(out) :: written
+    end function
+    integer(c_int) function jprom_sweep_result_point_judged_error(sweep, i, out) &
+        bind(C, name="jprom_sweep_result_point_judged_error")
+      import :: c_int, c_ptr, c_size_t, c_double
+      type(c_ptr), value :: sweep
+      integer(c_size_t), value :: i
+      real(c_double), intent(out) :: out
+    end function
     integer(c_int) function jprom_sweep_result_reached_end(sweep, out) bind(C, name="jprom_sweep_result_reached_end")
       import :: c_int, c_ptr
       type(c_ptr), value :: sweep
@@ -1042,7 +1062,7 @@ module jprom
   public :: jp_basis_predict, jp_basis_from_solution, jp_basis_sizes, jp_basis_free, jp_basis_save, jp_basis_load, &
             jp_rom_sweep, jp_rom_sweep_adaptive, jp_sweep_point_error, jp_sweep_n_corrections, jp_sweep_correction, &
             jp_correction_kind_name, jp_sweep_correction_end, jp_correction_end_name, jp_rom_actual_error, &
-            jp_sweep_static_error, jp_sweep_correction_swept
+            jp_sweep_static_error, jp_sweep_correction_swept, jp_sweep_trust, jp_sweep_judged_error
   ! FE models
   public :: jp_fe_new_csc, jp_fe_load_calculix, jp_fe_free, jp_fe_n_dof, jp_fe_node_set, jp_fe_add_contact, &
             jp_fe_add_force, jp_fe_add_output, jp_fe_keep_node, jp_fe_reduce, jp_fe_unreduced
@@ -2104,6 +2124,48 @@ contains
     s = jprom_sweep_result_static_error(sweep, w)
     if (s == JPROM_OK) error = w
     jp_sweep_static_error = finish(s, message)
+  end function
+
+  !> Whether a self-correcting sweep's result can be trusted (its final pass covered the band and every
+  !> point's judged error is within jp%threshold) and, if not, why in words (truncated to len(why)). The peak of
+  !> a sweep that is not trusted is not the reduced model's resonance. JPROM_INVALID_VALUE for any other sweep.
+  integer function jp_sweep_trust(sweep, trusted, why, message)
+    use jprom_c, only: jprom_sweep_result_trusted, jprom_sweep_result_trust_reason_copy
+    type(c_ptr), intent(in) :: sweep
+    logical, intent(out) :: trusted
+    character(len=*), intent(out) :: why
+    character(len=*), intent(out), optional :: message
+    character(kind=c_char) :: buf(len(why) + 1)
+    integer(c_size_t) :: written
+    integer(c_int) :: s, t
+    integer :: k
+    why = ''
+    s = jprom_sweep_result_trusted(sweep, t)
+    if (s == JPROM_OK) then
+      trusted = t /= 0
+      ! a truncated copy is still a good prefix
+      k = int(jprom_sweep_result_trust_reason_copy(sweep, buf, int(size(buf), c_size_t), written))
+      do k = 1, min(len(why), int(written))
+        why(k:k) = buf(k)
+      end do
+    end if
+    jp_sweep_trust = finish(s, message)
+  end function
+
+  !> The judged error e_1 at point i (1-based) of a self-correcting sweep: the checked error where the point
+  !> was checked against the full order, e*_1 elsewhere (+Infinity where no full-order solution was reached
+  !> from it). Above jp%threshold the point is not good. JPROM_INVALID_VALUE for any other sweep or i out of range.
+  integer function jp_sweep_judged_error(sweep, i, error, message)
+    use jprom_c, only: jprom_sweep_result_point_judged_error
+    type(c_ptr), intent(in) :: sweep
+    integer, intent(in) :: i
+    real(c_double), intent(out) :: error
+    character(len=*), intent(out), optional :: message
+    integer(c_int) :: s
+    real(c_double) :: w
+    s = jprom_sweep_result_point_judged_error(sweep, c_index(i), w)
+    if (s == JPROM_OK) error = w
+    jp_sweep_judged_error = finish(s, message)
   end function
 
   !> A short name for a correction end ("within_threshold", "max_corrections", "no_progress", "cancelled";

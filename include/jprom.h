@@ -1341,6 +1341,33 @@ const char *jprom_status_name(int status);
 // `JPROM_VERSION_*` macros to detect a header/library mismatch.
 const char *jprom_version(void);
 
+// Whether the result of `jprom_rom_sweep_adaptive` can be trusted: `*out` = 1 when its final
+// pass covered the band and every point's judged error (`jprom_sweep_result_point_judged_error`)
+// is within `jprom_jp_options.threshold`, else 0 (`jprom_sweep_result_trust_reason_copy` says
+// why). The peak of a sweep that is not trusted is not the reduced model's resonance.
+// `JPROM_INVALID_VALUE` for any other sweep and for one loaded from a file saved without the
+// verdict (before 0.3); nothing is written then. Since 0.3.
+jprom_status jprom_sweep_result_trusted(const jprom_sweep_result *sweep, int *out);
+
+// Copies why a self-correcting sweep's result is not trusted (empty if it is) into `buf`, with
+// the convention of `jprom_last_error_copy`: NUL-terminated, `*written` = full length,
+// `JPROM_BAD_SIZE` if truncated. `JPROM_INVALID_VALUE` as `jprom_sweep_result_trusted`.
+// Since 0.3.
+jprom_status jprom_sweep_result_trust_reason_copy(const jprom_sweep_result *sweep,
+                                                  char *buf,
+                                                  size_t len,
+                                                  size_t *written);
+
+// The judged error `e_1` at point `index` of a self-correcting sweep: the checked error where
+// the point was checked against the condensed full order (a bound on the actual error (44)
+// where the full-order Newton iteration from it contracts, the actual error against the
+// full-order solution reached from it elsewhere, `+inf` where none was reached), `e*_1`
+// elsewhere. Above the threshold the point is not good. `JPROM_INVALID_VALUE` for any other
+// sweep, one saved without it, or `index` out of range; nothing is written then. Since 0.3.
+jprom_status jprom_sweep_result_point_judged_error(const jprom_sweep_result *sweep,
+                                                   size_t index,
+                                                   double *out);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

@@ -21,6 +21,7 @@ pub mod model;
 pub mod parallelism;
 pub mod solve;
 pub mod status;
+pub mod trust;
 mod versioned;
 
 pub use events::*;
@@ -31,6 +32,7 @@ pub use model::*;
 pub use parallelism::*;
 pub use solve::*;
 pub use status::*;
+pub use trust::*;
 
 #[cfg(test)]
 mod tests;

@@ -20,7 +20,7 @@ use std::ops::ControlFlow;
 /// default JP settings (index, omega, |X1| node 0 x, |X1| node 1 x, e*_1); and the
 /// self-correcting sweep's static contact displacement error
 /// ([`jprom::rom::AdaptiveSweep::worst_static_error`]).
-fn rust_table_and_static_error() -> (Vec<Vec<f64>>, Option<f64>) {
+fn rust_table_and_static_error() -> (Vec<Vec<f64>>, Option<f64>, String) {
     let model = examples_model();
     let opts = HbmOptions::default();
     let sys = CondensedSystem::new(&model, 3).unwrap();
@@ -34,7 +34,11 @@ fn rust_table_and_static_error() -> (Vec<Vec<f64>>, Option<f64>) {
     rows.extend(jp.sweep.points.iter().zip(&jp.predicted_errors).enumerate().map(|(i, (p, e))| {
         vec![i as f64, p.omega, p.output_amplitude(1, 0), p.output_amplitude(1, 1), e[1]]
     }));
-    (rows, jp.worst_static_error())
+    let trust = match &jp.trust.reason {
+        None => "# JP: trusted: yes".to_string(),
+        Some(why) => format!("# JP: trusted: no: {why}"),
+    };
+    (rows, jp.worst_static_error(), trust)
 }
 
 /// `e*_1` below this is round-off (the threshold of a poor basis is 0.05).
@@ -57,13 +61,14 @@ fn assert_same_table(what: &str, got: &[Vec<f64>], expect: &[Vec<f64>]) {
 
 #[test]
 fn c_cpp_and_fortran_examples_print_the_rust_numbers() {
-    let (expect, rust_static) = rust_table_and_static_error();
+    let (expect, rust_static, rust_trust) = rust_table_and_static_error();
     let c = compile_c(&[&root().join("examples-c/sweep_example.c")], "sweep_example_c", &[]);
     let c_out = run(&c);
     assert_same_table("C example", &table(&c_out), &expect);
     let n_full = expect.iter().filter(|r| r.len() == 4).count();
     assert!(c_out.contains(&format!("({n_full} reported by the callback)")), "{c_out}");
     assert!(c_out.contains("# JP: self-correcting NLR sweep"), "{c_out}");
+    assert!(c_out.lines().any(|l| l == rust_trust), "the C example's verdict is not Rust's ({rust_trust}): {c_out}");
     let cpp = compile_cpp(&[&root().join("examples-c/cpp_raii.cpp")], "cpp_raii");
     let cpp_out = run(&cpp);
     assert_same_table("C++ RAII example", &table(&cpp_out), &expect);

@@ -51,7 +51,9 @@ pub struct SolverRow {
     pub basis_seconds: f64,
     /// Basis corrections made by the self-correcting sweep (ROMs).
     pub corrections: usize,
-    /// Resonance (largest `X1` at the response output, `output.response`) frequency and amplitude.
+    /// Resonance (largest `X1` at the response output, `output.response`) frequency and amplitude;
+    /// NaN (`null` in `summary.json`, `-` in the table) for a sweep without points and for a
+    /// reduced sweep that is not trusted (`trusted`).
     pub peak_hz: f64,
     pub peak_x1: f64,
     pub peak_x0: f64,
@@ -90,6 +92,14 @@ pub struct SolverRow {
     /// `basis.error_threshold` the static term `X0` is poor and `warnings` says so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub static_contact_error: Option<f64>,
+    /// Whether the self-correcting sweep's result can be trusted (ROMs only): its final pass
+    /// covered the band and every point's judged error is within the threshold
+    /// (docs/formulation.md §10.7). The peak of a row that is not trusted is not reported
+    /// (`peak_*` are empty) and `trust_reason` and `warnings` say why.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trusted: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trust_reason: Option<String>,
     /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its
     /// share of the shared basis) (ROMs only, when the full order ran).
     #[serde(default)]
@@ -644,6 +654,8 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         worst_error: None,
         corrections_end: None,
         static_contact_error: None,
+        trusted: None,
+        trust_reason: None,
         speed_up: None,
         case: String::new(),
         events: Vec::new(),
@@ -731,7 +743,7 @@ fn harmonics_of(p: &PointSolution) -> usize {
 
 /// A sweep's CSV ([`write_csv_rows`]) in memory: a unit's files are written when the units are
 /// merged ([`crate::units`]), in unit order, by the process that writes the summary.
-fn csv_bytes(res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)) -> Result<Vec<u8>> {
+fn csv_bytes(res: &SweepResult, errors: Option<(&[Vec<f64>], &[f64])>, units: (&str, &str)) -> Result<Vec<u8>> {
     let mut buf = Vec::new();
     write_csv_rows(&mut buf, res, errors, units).map_err(|e| JpError::Io { path: "(csv in memory)".into(), reason: e.to_string() })?;
     Ok(buf)
@@ -739,11 +751,12 @@ fn csv_bytes(res: &SweepResult, errors: Option<&[Vec<f64>]>, units: (&str, &str)
 
 /// One row per sweep point: `freq_hz`, then per output `j` the static term `x0_out{j}` (signed)
 /// and the amplitudes `x{h}_out{j}` of every harmonic `h = 1..H` (unit suffix: `_mm` or `_lu`),
-/// `e_star_0..e_star_H` (ROMs), Newton iterations, residual, stick/slip/separated AFT samples,
+/// `e_star_0..e_star_H` and the self-correcting sweep's judged error `judged_e1` (ROMs; `inf`
+/// where no full-order solution was reached from the point), Newton iterations, residual, stick/slip/separated AFT samples,
 /// the dissipated energy per cycle (`_mj` or `_flu`), what the branch meets between this point
 /// and the next (`events_after`: `fold`, `branch_point`, `gap`, joined by `+`; empty for
 /// nothing) and the sweep's end reason.
-fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64>]>, (len, energy): (&str, &str)) -> std::io::Result<()> {
+fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<(&[Vec<f64>], &[f64])>, (len, energy): (&str, &str)) -> std::io::Result<()> {
     let n_out = res.points.first().map(|p| p.n_outputs).unwrap_or(0);
     let h_max = res.points.first().map(harmonics_of).unwrap_or(0);
     let mut header = String::from("freq_hz");
@@ -755,6 +768,7 @@ fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64
     for h in 0..=h_max {
         header.push_str(&format!(",e_star_{h}"));
     }
+    header.push_str(",judged_e1");
     header.push_str(&format!(",iterations,residual,stick_samples,slip_samples,separated_samples,dissipated_energy_{energy},events_after,sweep_end"));
     writeln!(f, "{header}")?;
     for (i, p) in res.points.iter().enumerate() {
@@ -765,12 +779,17 @@ fn write_csv_rows(f: &mut dyn Write, res: &SweepResult, errors: Option<&[Vec<f64
                 line.push_str(&format!(",{:.9e}", p.output_amplitude(h, j)));
             }
         }
-        let e = errors.and_then(|e| e.get(i));
+        let e = errors.and_then(|e| e.0.get(i));
         for h in 0..=h_max {
             match e.and_then(|e| e.get(h)) {
                 Some(v) => line.push_str(&format!(",{v:.4e}")),
                 None => line.push(','),
             }
+        }
+        match errors.and_then(|e| e.1.get(i)) {
+            Some(v) if v.is_finite() => line.push_str(&format!(",{v:.4e}")),
+            Some(_) => line.push_str(",inf"),
+            None => line.push(','),
         }
         let c = state_counts(p);
         let mut after: Vec<&str> = res.events.iter().filter(|e| e.after_point == i).map(|e| e.kind.name()).collect();
@@ -1039,6 +1058,8 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         worst_error: None,
         corrections_end: None,
         static_contact_error: None,
+        trusted: None,
+        trust_reason: None,
         speed_up: None,
         case: String::new(),
         events,
@@ -1123,7 +1144,7 @@ fn reduced_level(
     let rom = reduced_model(kind, coords, Some(condensed), basis)?;
     let res = &adaptive.sweep;
     let errors = &adaptive.predicted_errors;
-    c.files.push((format!("{tag}_{}.csv", name.to_lowercase()), csv_bytes(res, Some(errors), units(run.study))?));
+    c.files.push((format!("{tag}_{}.csv", name.to_lowercase()), csv_bytes(res, Some((errors, &adaptive.judged_errors())), units(run.study))?));
     let rom_label = format!("{name}, n_h = {:?}, gamma = {:e}", rom.layout().sizes, basis.gamma);
     series.frf.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_amplitude(1, run.response))).collect(), true));
     series.frf0.push(SolverSeries::new(rom_label.clone(), res.points.iter().map(|q| (q.omega / TWO_PI, q.output_coeff(0, run.response))).collect(), true));
@@ -1152,6 +1173,10 @@ fn reduced_level(
             aopts.threshold
         ));
     }
+    let trust = &adaptive.trust;
+    if let Some(why) = &trust.reason {
+        warnings.push(format!("not trusted, so its peak is not reported as the reduced model's resonance: {why}"));
+    }
     let (events, gaps) = events_and_gaps(res);
     let mut row = SolverRow {
         level,
@@ -1161,9 +1186,9 @@ fn reduced_level(
         sweep_seconds: secs,
         basis_seconds,
         corrections: adaptive.corrections.len(),
-        peak_hz: p.omega / TWO_PI,
-        peak_x1: p.output_amplitude(1, run.response),
-        peak_x0: p.output_coeff(0, run.response),
+        peak_hz: if trust.trusted { p.omega / TWO_PI } else { f64::NAN },
+        peak_x1: if trust.trusted { p.output_amplitude(1, run.response) } else { f64::NAN },
+        peak_x0: if trust.trusted { p.output_coeff(0, run.response) } else { f64::NAN },
         error_x1: None,
         error_x0: None,
         predicted_e1: None,
@@ -1176,6 +1201,8 @@ fn reduced_level(
         worst_error: Some(adaptive.worst_error),
         corrections_end: Some(adaptive.end.name().into()),
         static_contact_error,
+        trusted: Some(trust.trusted),
+        trust_reason: trust.reason.clone(),
         speed_up: None,
         case: String::new(),
         events,
@@ -1844,7 +1871,7 @@ pub fn summary_table(s: &RunSummary) -> String {
     let times = |v: Option<f64>| v.map(|x| format!("{x:.1}x")).unwrap_or_else(|| "-".into());
     for r in &s.rows {
         out.push_str(&format!(
-            "{}{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>8.2} {:>8} {:>10.2} {:>11.4e} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
+            "{}{:>10.1e} {:<15} {:>14} {:>6} {:>8.2} {:>8} {:>8.2} {:>8} {:>10} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:<12}\n",
             case_col(&r.case),
             r.level,
             r.solver,
@@ -1854,8 +1881,8 @@ pub fn summary_table(s: &RunSummary) -> String {
             times(r.speed_up),
             r.basis_seconds,
             r.corrections,
-            r.peak_hz,
-            r.peak_x1,
+            if r.peak_hz.is_finite() { format!("{:.2}", r.peak_hz) } else { "-".into() },
+            if r.peak_x1.is_finite() { format!("{:.4e}", r.peak_x1) } else { "-".into() },
             opt(r.error_x1),
             opt(r.error_x0),
             opt(r.predicted_e1),
@@ -1882,12 +1909,19 @@ pub fn summary_table(s: &RunSummary) -> String {
             })
             .collect();
         out.push_str(&format!("all levels{of_case}, the shared basis included: {}\n", parts.join(", ")));
+        for t in s.totals.iter().filter(|t| t.case == case && t.speed_up.is_some_and(|x| x < 1.0)) {
+            let fo = t.seconds * t.speed_up.unwrap_or(1.0);
+            out.push_str(&format!("(!) {}{of_case} cost more than the full order over all levels: {:.1} s vs {fo:.1} s\n", t.solver, t.seconds));
+        }
     }
-    let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty()).collect();
+    // a reduced model dearer than the full order says so here, not among the row's warnings:
+    // times differ from run to run, and `summary.json` of a reproducible run does not
+    let dearer = |r: &SolverRow| r.speed_up.filter(|&x| x < 1.0).map(|x| format!("the reduced model cost more than the full order at this level: {:.2} s (basis and corrections included) vs {:.2} s", r.sweep_seconds, r.sweep_seconds * x));
+    let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty() || dearer(r).is_some()).collect();
     if !flagged.is_empty() {
         out.push_str("(!) read with care:\n");
         for r in flagged {
-            for w in &r.warnings {
+            for w in r.warnings.iter().cloned().chain(dearer(r)) {
                 let of_case = if r.case.is_empty() { String::new() } else { format!(" of case {}", r.case) };
                 out.push_str(&format!("  {} at a/a_ST = {:.1e}{of_case}: {w}\n", r.solver, r.level));
             }

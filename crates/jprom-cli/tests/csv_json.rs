@@ -22,7 +22,7 @@ fn csv_has_every_harmonic_of_every_output_and_the_summary_its_end_reasons() {
         expected.extend((0..=3).map(|h| format!("x{h}_out{j}_lu")));
     }
     expected.extend((0..=3).map(|h| format!("e_star_{h}")));
-    for name in ["iterations", "residual", "stick_samples", "slip_samples", "separated_samples", "dissipated_energy_flu", "events_after", "sweep_end"] {
+    for name in ["judged_e1", "iterations", "residual", "stick_samples", "slip_samples", "separated_samples", "dissipated_energy_flu", "events_after", "sweep_end"] {
         expected.push(name.into());
     }
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
@@ -47,12 +47,30 @@ fn csv_has_every_harmonic_of_every_output_and_the_summary_its_end_reasons() {
             slipping_rows += 1;
             assert!(num(r, "x3_out0_lu") > 0.0 && num(r, "x3_out1_lu") > 0.0, "{file}: slip but no third harmonic: {r:?}");
         }
-        // the summary's peak is the CSV's largest x1 at the first output, with its x0
+        // the judged error only for the reduced model; its verdict agrees with it, and a
+        // reduced sweep that is not trusted reports no peak
+        assert_eq!(rows.iter().all(|r| !r[col("judged_e1")].is_empty()), solver == "NLR", "{file} judged_e1");
         let row = summary["rows"].as_array().unwrap().iter().find(|r| r["solver"] == solver).unwrap();
+        let mut peak_reported = true;
+        if solver == "NLR" {
+            let within = rows.iter().all(|r| r[col("judged_e1")].parse::<f64>().is_ok_and(|e| e <= 0.05));
+            let trusted = row["trusted"].as_bool().expect("a reduced row has a verdict");
+            assert!(!trusted || within, "{file}: trusted with a judged error above the threshold");
+            assert_eq!(trusted, row["trust_reason"].is_null(), "{row}");
+            if !trusted {
+                assert!(row["peak_x1"].is_null() && row["peak_hz"].is_null(), "an untrusted row reports a peak: {row}");
+                peak_reported = false;
+            }
+        } else {
+            assert!(row["trusted"].is_null(), "{row}");
+        }
+        // the summary's peak is the CSV's largest x1 at the first output, with its x0
         let peak = rows.iter().max_by(|a, b| num(a, "x1_out0_lu").total_cmp(&num(b, "x1_out0_lu"))).unwrap();
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
-        assert!(rel(num(peak, "x1_out0_lu"), row["peak_x1"].as_f64().unwrap()) < 1e-8, "{file}");
-        assert!(rel(num(peak, "x0_out0_lu"), row["peak_x0"].as_f64().unwrap()) < 1e-8 || row["peak_x0"].as_f64().unwrap().abs() < 1e-12, "{file}");
+        if peak_reported {
+            assert!(rel(num(peak, "x1_out0_lu"), row["peak_x1"].as_f64().unwrap()) < 1e-8, "{file}");
+            assert!(rel(num(peak, "x0_out0_lu"), row["peak_x0"].as_f64().unwrap()) < 1e-8 || row["peak_x0"].as_f64().unwrap().abs() < 1e-12, "{file}");
+        }
         assert_eq!(row["end"], "reached_end");
         assert_eq!(row["end_reason"], "reached the band's end");
         assert!(rows.iter().all(|r| r[col("sweep_end")] == "reached_end"));

@@ -11,7 +11,7 @@ use jprom::hbm::{solve_point, sweep, HbmOptions, SweepOptions};
 use jprom::jp::{predict_basis, BasisOptions, JpBasis, ModeOptions, PredictionOptions, SlippingSamples};
 use jprom::model::{ContactCoordinates, Damping, Excitation, HarmonicForce, Model};
 use jprom::rom::{adaptive_sweep, adaptive_sweep_with_progress, AdaptiveOptions, Correction, CorrectionEnd, CorrectionKind, NlrRom, RomKind};
-use std::ffi::{c_int, c_void};
+use std::ffi::{c_char, c_int, c_void};
 use std::ops::ControlFlow;
 
 /// A 4-node chain (12 DoFs) on springs, two ground contacts with preload: the same model for
@@ -458,6 +458,30 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         assert_eq!(Some(w0), expect.worst_static_error());
         assert!(w0 >= 0.0);
         assert_eq!(jprom_sweep_result_static_error(s, std::ptr::null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
+        // the verdict and the judged error per point, as Rust's
+        let trust_of = |s: *const jprom_sweep_result| {
+            let mut t = -1;
+            ok(jprom_sweep_result_trusted(s, &mut t));
+            let mut buf = [0 as c_char; 512];
+            let mut n = usize::MAX;
+            ok(jprom_sweep_result_trust_reason_copy(s, buf.as_mut_ptr(), buf.len(), &mut n));
+            let judged: Vec<f64> = (0..rows.len())
+                .map(|i| {
+                    let mut e = -1.0;
+                    ok(jprom_sweep_result_point_judged_error(s, i, &mut e));
+                    e
+                })
+                .collect();
+            (t, std::ffi::CStr::from_ptr(buf.as_ptr()).to_str().unwrap().to_string(), n, judged)
+        };
+        let trust = trust_of(s);
+        let reason = expect.trust.reason.clone().unwrap_or_default();
+        assert_eq!(trust, (c_int::from(expect.trust.trusted), reason.clone(), reason.len(), expect.judged_errors()));
+        assert!(trust.3.iter().all(|e| *e >= 0.0) && trust.3.len() == rows.len());
+        let mut e_out = -1.0;
+        assert_eq!(jprom_sweep_result_point_judged_error(s, rows.len(), &mut e_out), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(e_out, -1.0, "nothing written for an index out of range");
+        assert_eq!(jprom_sweep_result_trusted(s, std::ptr::null_mut()), jprom_status::JPROM_NULL_ARGUMENT);
         // saved and loaded, the reduced sweep keeps its e* and its corrections
         let path = std::env::temp_dir().join(format!("jprom-adaptive-{}.json", std::process::id()));
         let cpath = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
@@ -482,6 +506,7 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let mut w0_loaded = -1.0;
         ok(jprom_sweep_result_static_error(loaded, &mut w0_loaded));
         assert_eq!(w0_loaded, w0, "the static error after a save and a load");
+        assert_eq!(trust_of(loaded), trust, "the verdict and the judged errors after a save and a load");
         ok(jprom_sweep_result_free(loaded));
         std::fs::remove_file(&path).ok();
         // the final basis is usable: a plain ROM sweep on it gives the final pass again
@@ -498,6 +523,10 @@ fn adaptive_sweep_through_c_matches_the_rust_api() {
         let mut w0_plain = -1.0;
         assert_eq!(jprom_sweep_result_static_error(again, &mut w0_plain), jprom_status::JPROM_INVALID_VALUE);
         assert_eq!(w0_plain, -1.0, "nothing written");
+        let mut t_plain = -1;
+        assert_eq!(jprom_sweep_result_trusted(again, &mut t_plain), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!(jprom_sweep_result_point_judged_error(again, 0, &mut w0_plain), jprom_status::JPROM_INVALID_VALUE);
+        assert_eq!((t_plain, w0_plain), (-1, -1.0), "nothing written for a plain reduced sweep");
         ok(jprom_sweep_result_free(again));
         ok(jprom_sweep_result_free(s));
         ok(jprom_basis_free(b));

@@ -23,11 +23,13 @@ program binding
   integer, allocatable :: states(:), colptr(:), rowind(:)
   real(c_double), allocatable :: mvals(:), kvals(:)
   real(c_double) :: a1(2), a2(2), omega, omega2, coeffs(2, 7), amp, res, energy(1), e(0:3), estar, alpha, value, wb, wa, judged
-  real(c_double) :: w0err
+  real(c_double) :: w0err, judged_i, judged_worst
+  character(len=512) :: trust_why
+  integer :: na, ip
   integer(c_size_t) :: budget
   integer(c_int64_t) :: node_rows(6, 3)
   real(c_double) :: mass9(9, 9), stiffness9(9, 9)
-  logical :: reached, repro, swept
+  logical :: reached, repro, swept, trusted
   character(len=200) :: why
   type(c_ptr) :: duffing, dsweep
   type(jprom_hbm_options) :: dopts
@@ -217,6 +219,8 @@ program binding
   call ok(jp_sweep_n_points(rsweep, npts), 'jp_sweep_n_points')
   k = npts / 2
   call ok(jp_sweep_point_error(rsweep, k, 1, estar), 'jp_sweep_point_error')
+  call check(jp_sweep_trust(rsweep, trusted, trust_why, msg) == JPROM_INVALID_VALUE .and. msg /= '', &
+             'a plain reduced sweep has no verdict')
   call ok(jp_sweep_solution(rsweep, k, rsol, msg), 'jp_sweep_solution')
   call ok(jp_solution_omega(rsol, omega), 'jp_solution_omega')
   call ok(jp_solve_point(model, omega, opts, full, msg), 'jp_solve_point')
@@ -250,6 +254,19 @@ program binding
   call check(jp_correction_end_name(cend) /= 'unknown' .and. jp_correction_end_name(99) == 'unknown', 'correction end names')
   call ok(jp_sweep_static_error(asweep, w0err, msg), 'jp_sweep_static_error')
   call check(w0err >= 0.0d0, 'static contact displacement error')
+  ! the verdict agrees with the judged errors of its points
+  call ok(jp_sweep_trust(asweep, trusted, trust_why, msg), 'jp_sweep_trust')
+  call ok(jp_sweep_n_points(asweep, na), 'jp_sweep_n_points (self-correcting)')
+  judged_worst = 0
+  do ip = 1, na
+    call ok(jp_sweep_judged_error(asweep, ip, judged_i, msg), 'jp_sweep_judged_error')
+    call check(judged_i >= 0.0d0, 'judged error >= 0')
+    judged_worst = max(judged_worst, judged_i)
+  end do
+  call check(trusted .eqv. (judged_worst <= jp_opts%threshold .and. len_trim(trust_why) == 0), 'trusted and judged errors')
+  call check(trusted .or. len_trim(trust_why) > 0, 'an untrusted sweep says why')
+  call check(jp_sweep_judged_error(asweep, na + 1, judged_i, msg) == JPROM_INVALID_VALUE .and. msg /= '', &
+             'judged error of point n + 1 is refused')
   call check(jp_sweep_correction(asweep, k + 1, kind, value, wb, wa, sizes, msg) == JPROM_INVALID_VALUE, &
              'correction n + 1 is refused')
   s = jp_sweep_free(asweep)

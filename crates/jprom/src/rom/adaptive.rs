@@ -62,7 +62,7 @@ use super::{ReducedModel, RomKind};
 use crate::aft::Discretisation;
 use crate::condensation::CondensedSystem;
 use crate::error::{JpError, Result};
-use crate::rom::error_metric::{checked_error, CheckBasis, POOR_BASIS_THRESHOLD};
+use crate::rom::error_metric::{checked_error, linearised_errors, CheckBasis, POOR_BASIS_THRESHOLD};
 use crate::hbm::{HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepOptions, SweepResult};
 use crate::jp::{predict_basis, predict_modes, GeneratingShape, JpBasis, PredictedModes, PredictionOptions, PredictionReport};
 use crate::model::{ContactCoordinates, Model};
@@ -184,19 +184,14 @@ pub struct ErrorCheck {
     /// [`AdaptiveSweep::worst_static_error`] reports it.
     #[serde(default)]
     pub static_displacement: f64,
-    /// The checked error `e_1` there ([`crate::rom::error_metric::checked_error`]): the
-    /// linearised error over `1 - θ` where the chord iteration contracts, else the actual error
-    /// against the full-order solution reached from the point (infinite where none is). It
-    /// judges the pass.
+    /// The judged error `e_1` there: `e_lin_1` at the checks that judge a pass, the checked
+    /// error ([`crate::rom::error_metric::checked_error`]) at the final pass' verdict checks
+    /// ([`AdaptiveSweep::checks`]).
     #[serde(default)]
     pub checked: f64,
-    /// How `checked` was reached.
-    #[serde(default = "check_basis_default")]
-    pub basis: CheckBasis,
-}
-
-fn check_basis_default() -> CheckBasis {
-    CheckBasis::Contracting
+    /// How the checked error was reached (`None` where `checked` is `e_lin_1`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub basis: Option<CheckBasis>,
 }
 
 /// Why the self-correcting sweep stopped correcting.
@@ -275,7 +270,10 @@ pub struct AdaptiveSweep {
     pub prediction: PredictionReport,
     /// Corrections made, in order (empty if the first basis was good).
     pub corrections: Vec<Correction>,
-    /// The linearised-error checks of the final pass.
+    /// The checks of the final pass its verdict rests on ([`AdaptiveSweep::trust`]): the
+    /// checked error at every point where the condensed full order has at most 3,000 unknowns,
+    /// else at the resonance, the points of largest `e*_1` and points spread along the branch
+    /// (docs/formulation.md §10.7); empty without checks.
     pub checks: Vec<ErrorCheck>,
     /// The worst error of the final pass, which the corrections were judged by: the largest
     /// `e_lin_1` at the checks, or the largest `e*_1` without checks (see the module doc).
@@ -373,15 +371,19 @@ fn run_pass(
     if let Some(condensed) = condensed {
         let amplitude = |p: &PointSolution| if response < p.n_outputs { p.output_amplitude(1, response) } else { 0.0 };
         let peak = (0..sw.points.len()).max_by(|&a, &b| amplitude(&sw.points[a]).total_cmp(&amplitude(&sw.points[b]))).unwrap_or(0);
+        let mut by_error: Vec<usize> = (0..sw.points.len()).collect();
+        by_error.sort_by(|&a, &b| errors[b][1].total_cmp(&errors[a][1]));
+        let mut at = vec![peak];
+        at.extend(by_error.into_iter().filter(|&i| i != peak).take(CHECKED_POINTS));
         let (mut judged, mut judged_at) = (-1.0f64, 0);
-        for i in checked_points(&errors, peak, condensed.layout().total()) {
+        for i in at {
             let p = &sw.points[i];
             // A singular full-order Jacobian at this point leaves it unchecked.
-            if let Ok(c) = checked_error(rom, condensed, p.omega, &p.z, hopts) {
-                let e = nan_as_worst(c.error[1]);
-                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: c.linearised.force[1], static_displacement: c.linearised.static_displacement, checked: e, basis: c.basis });
-                if !(e <= judged) {
-                    judged = e;
+            if let Ok(lin) = linearised_errors(rom, condensed, p.omega, &p.z) {
+                let e = &lin.force;
+                checks.push(ErrorCheck { index: i, omega: p.omega, predicted: errors[i][1], linearised: e[1], static_displacement: lin.static_displacement, checked: nan_as_worst(e[1]), basis: None });
+                if !(e[1] <= judged) {
+                    judged = nan_as_worst(e[1]);
                     judged_at = i;
                 }
             }
@@ -390,12 +392,6 @@ fn run_pass(
             worst = judged;
             worst_at = judged_at;
         }
-    }
-    // A pass that did not cover the band (stalled, capped, left it) is judged infinite at its
-    // last point: it is corrected from there, and never within the threshold.
-    if matches!(sw.end, SweepEnd::StepTooSmall | SweepEnd::MaxPoints | SweepEnd::LeftBand) {
-        worst = f64::INFINITY;
-        worst_at = sw.points.len() - 1;
     }
     Ok(Pass { sweep: sw, errors, checks, worst: worst.max(0.0), worst_at })
 }
@@ -455,7 +451,7 @@ impl Judged {
 /// check fails (a singular full-order Jacobian).
 fn screen(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64, hopts: &HbmOptions) -> Option<(Vec<f64>, f64)> {
     let p = crate::hbm::solve_point(rom, omega, None, hopts).ok()?;
-    let e = checked_error(rom, condensed, omega, &p.z, hopts).ok()?.error[1];
+    let e = linearised_errors(rom, condensed, omega, &p.z).ok()?.force[1];
     Some((p.z, nan_as_worst(e)))
 }
 
@@ -893,10 +889,32 @@ pub fn adaptive_sweep_from(
             (end, p)
         }
     };
+    let checks = match check_with {
+        Some(condensed) => verdict_checks(cur.rom.as_ref(), condensed, &pass, hopts, aopts.response_output),
+        None => Vec::new(),
+    };
     let (basis, prediction) = (cur.basis, cur.prediction);
-    let judged = judged_errors(&pass.errors, &pass.checks);
+    let judged = judged_errors(&pass.errors, &checks);
     let trust = Trust::of(&pass.sweep, &judged, aopts.threshold);
-    Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks: pass.checks, worst_error: pass.worst, end, trust })
+    Ok(AdaptiveSweep { sweep: pass.sweep, predicted_errors: pass.errors, basis, prediction, corrections, checks, worst_error: pass.worst, end, trust })
+}
+
+/// The checks of the final pass that its verdict ([`Trust`]) rests on: the checked error
+/// ([`checked_error`]) at [`checked_points`]: every point where the condensed full order has at
+/// most [`EVERY_POINT_CHECK_UNKNOWNS`] unknowns. A point with a singular full-order Jacobian is
+/// left unchecked (judged by `e*_1`).
+fn verdict_checks(rom: &dyn ReducedModel, condensed: &CondensedSystem, pass: &Pass, hopts: &HbmOptions, response: usize) -> Vec<ErrorCheck> {
+    let sw = &pass.sweep;
+    let amplitude = |p: &PointSolution| if response < p.n_outputs { p.output_amplitude(1, response) } else { 0.0 };
+    let peak = (0..sw.points.len()).max_by(|&a, &b| amplitude(&sw.points[a]).total_cmp(&amplitude(&sw.points[b]))).unwrap_or(0);
+    checked_points(&pass.errors, peak, condensed.layout().total())
+        .into_iter()
+        .filter_map(|i| {
+            let p = &sw.points[i];
+            let c = checked_error(rom, condensed, p.omega, &p.z, hopts).ok()?;
+            Some(ErrorCheck { index: i, omega: p.omega, predicted: pass.errors[i][1], linearised: c.linearised.force[1], static_displacement: c.linearised.static_displacement, checked: nan_as_worst(c.error[1]), basis: Some(c.basis) })
+        })
+        .collect()
 }
 
 #[cfg(test)]
