@@ -41,9 +41,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]
+  jprom demo  [--out DIR] [--jobs N] [--keep-partial] [--fall-back] [--memory-budget SIZE] [--reproducible] [--quiet]
                                  run the built-in shrouded-blade demo (results in DIR, default jprom-demo)
-  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]
+  jprom run   STUDY [--out DIR] [--jobs N] [--keep-partial] [--fall-back] [--memory-budget SIZE] [--reproducible] [--quiet]
                                  run a study file (.toml or .json); --jobs N runs N units
                                  (a solver at a level of a case) at once in threads, same results;
                                  --memory-budget SIZE (12G) caps what one stage may take;
@@ -74,6 +74,11 @@ struct Command {
 const QUIET: (&str, bool, &str) = ("--quiet", false, "no progress on standard error (bars on a terminal, plain lines otherwise)");
 const KEEP_PARTIAL: (&str, bool, &str) = ("--keep-partial", false, "exit 0 when a sweep did not cover its band (exit 3 otherwise; results are kept either way)");
 const HELP: (&str, bool, &str) = ("--help, -h", false, "this text");
+const FALL_BACK: (&str, bool, &str) = (
+    "--fall-back",
+    false,
+    "where a reduced sweep is not trusted or did not finish, the full order gives the level's result (run there when solvers.full_order is off); as solvers.fall_back = true",
+);
 const JOBS: (&str, bool, &str) = ("--jobs", true, "N: run N units (a solver at a level of a case) at once, in threads (default 1); the results do not depend on N");
 const MEMORY_BUDGET: (&str, bool, &str) = (
     "--memory-budget",
@@ -90,17 +95,17 @@ const REPRODUCIBLE: (&str, bool, &str) = (
 const COMMANDS: [Command; 4] = [
     Command {
         name: "demo",
-        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]",
+        synopsis: "jprom demo [--out DIR] [--jobs N] [--keep-partial] [--fall-back] [--memory-budget SIZE] [--reproducible] [--quiet]",
         about: "Runs the built-in shrouded-blade demo (crates/jprom-cli/demo_study.toml): full order, FR and\nNLR sweeps at each level, error predictor, summary table, CSV, JSON and SVG plots.",
         takes_study: false,
-        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default jprom-demo, in the current folder)"), JOBS, KEEP_PARTIAL, FALL_BACK, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
     },
     Command {
         name: "run",
-        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--memory-budget SIZE] [--reproducible] [--quiet]",
+        synopsis: "jprom run STUDY [--out DIR] [--jobs N] [--keep-partial] [--fall-back] [--memory-budget SIZE] [--reproducible] [--quiet]",
         about: "Runs a study file (TOML or JSON): model, Craig-Bampton, sweeps, bases, CSV, JSON and SVG.",
         takes_study: true,
-        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
+        options: &[("--out", true, "DIR: where results go (default: the study's output.dir, relative to the study file)"), JOBS, KEEP_PARTIAL, FALL_BACK, MEMORY_BUDGET, REPRODUCIBLE, QUIET, HELP],
     },
     Command {
         name: "check",
@@ -221,6 +226,12 @@ enum Failure {
     Incomplete(Vec<String>),
 }
 
+/// `study` with `solvers.fall_back` on where the command line says `--fall-back`.
+fn with_fall_back(mut study: Study, args: &Parsed) -> Study {
+    study.solvers.fall_back |= args.flag("--fall-back");
+    study
+}
+
 /// `--jobs N` (default 1), a positive integer.
 fn jobs_arg(args: &Parsed) -> Result<usize, Failure> {
     match args.value("--jobs") {
@@ -309,13 +320,14 @@ fn main() -> ExitCode {
             }
             match (cmd.name, p.study.as_deref()) {
                 ("demo", _) => {
-                    let study = Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?;
+                    let study = with_fall_back(Study::from_toml_str(DEMO_STUDY).map_err(|e| Failure::Usage(e.to_string()))?, &p);
                     run(&study, &out.unwrap_or_else(|| PathBuf::from("jprom-demo")), keep_partial, progress, jobs)
                 }
                 ("run", Some(path)) => study_from(path).and_then(|study| {
                     // every file and node the study names, checked before the long reads (errors with their line)
                     // (a file that is missing or malformed fails the run, status 1, as the full read would)
                     check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Run(e.to_string()))?;
+                    let study = with_fall_back(study, &p);
                     run(&study, &out.unwrap_or_else(|| study.output.dir.clone()), keep_partial, progress, jobs)
                 }),
                 ("check", Some(path)) => check_study_file(std::path::Path::new(path)).map_err(|e| Failure::Usage(e.to_string())).and_then(|text| print_out(&text)),

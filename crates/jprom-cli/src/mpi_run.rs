@@ -154,6 +154,7 @@ pub fn run_study_mpi(mpi: &Mpi, study: &Study, out_dir: &Path, progress: Progres
     let unit_progress = if progress == Progress::Bars { Progress::Lines } else { progress };
     let runner = UnitRunner::new(study, &shared, unit_progress)?;
     let outputs = deal(world, mpi.size(), &runner, &units, progress);
+    let (units, outputs) = crate::fall_back::with_fall_backs(&runner, study.solvers.fall_back, units, outputs, jobs);
     merge_units(study, out_dir, &shared, &units, outputs).map(Some)
 }
 

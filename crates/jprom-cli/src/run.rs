@@ -100,6 +100,11 @@ pub struct SolverRow {
     pub trusted: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub trust_reason: Option<String>,
+    /// A full-order row that gives its level's result in place of reduced sweeps that are not
+    /// trusted or did not finish (`solvers.fall_back`, [`crate::fall_back`]): each such
+    /// `solver: why`. Empty otherwise (and not in `summary.json`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stands_in_for: Vec<String>,
     /// The full-order sweep's time at this level over this ROM's (`sweep_seconds`, with its
     /// share of the shared basis) (ROMs only, when the full order ran).
     #[serde(default)]
@@ -656,6 +661,7 @@ fn failed_row_because(level: f64, solver: &str, sizes: Vec<usize>, why: &str) ->
         static_contact_error: None,
         trusted: None,
         trust_reason: None,
+        stands_in_for: Vec::new(),
         speed_up: None,
         case: String::new(),
         events: Vec::new(),
@@ -1060,6 +1066,7 @@ fn full_order_level(run: &Run, level: f64, tag: &str, condensed: &CondensedSyste
         static_contact_error: None,
         trusted: None,
         trust_reason: None,
+        stands_in_for: Vec::new(),
         speed_up: None,
         case: String::new(),
         events,
@@ -1159,7 +1166,7 @@ fn reduced_level(
     let mut warnings = sweep_warnings(res, p, run.band);
     if adaptive.worst_error > aopts.threshold {
         warnings.push(format!(
-            "the basis stayed poor: worst error {:.3e} > {} after {} corrections ({})",
+            "the basis stayed poor: worst error {:.3e} > {:e} after {} corrections ({})",
             adaptive.worst_error,
             aopts.threshold,
             adaptive.corrections.len(),
@@ -1169,7 +1176,7 @@ fn reduced_level(
     let static_contact_error = adaptive.worst_static_error();
     if let Some(e) = static_contact_error.filter(|&e| !(e <= aopts.threshold)) {
         warnings.push(format!(
-            "the static term X0 is poor: linearised error of the static contact displacement {e:.3e} > {} (the corrections judge the first harmonic only); at gross slip the static term converges only with a nearly complete basis: raise basis.gamma where X0 matters, or use the full order (docs/formulation.md §10.6)",
+            "the static term X0 is poor: linearised error of the static contact displacement {e:.3e} > {:e} (the corrections judge the first harmonic only); at gross slip the static term converges only with a nearly complete basis: raise basis.gamma where X0 matters, or use the full order (docs/formulation.md §10.6)",
             aopts.threshold
         ));
     }
@@ -1203,6 +1210,7 @@ fn reduced_level(
         static_contact_error,
         trusted: Some(trust.trusted),
         trust_reason: trust.reason.clone(),
+        stands_in_for: Vec::new(),
         speed_up: None,
         case: String::new(),
         events,
@@ -1670,9 +1678,12 @@ pub fn merge_units(study: &Study, out_dir: &Path, shared: &Shared, study_units: 
         basis_study.extend(case_basis_study);
     }
 
+    // a reduced sweep the full order stands in for, with a full sweep, leaves no level without
+    // its result (solvers.fall_back)
+    let stood_in = |r: &SolverRow| r.warnings.iter().any(|w| w == crate::fall_back::STOOD_IN) && rows.iter().any(|f| f.case == r.case && f.level == r.level && f.complete && !f.stands_in_for.is_empty());
     let incomplete = rows
         .iter()
-        .filter(|r| !r.complete)
+        .filter(|r| !r.complete && !stood_in(r))
         .map(|r| {
             let of_case = if r.case.is_empty() { String::new() } else { format!(" of case {}", r.case) };
             format!("{} at level {:e}{of_case}: {}", r.solver, r.level, r.warnings.first().cloned().unwrap_or_else(|| r.end.clone()))
@@ -1807,6 +1818,7 @@ pub fn run_study_jobs(study: &Study, out_dir: &Path, progress: Progress, jobs: u
     let unit_progress = if jobs > 1 && progress == Progress::Bars { Progress::Lines } else { progress };
     let runner = UnitRunner::new(study, &shared, unit_progress)?;
     let outputs = run_units_threads(&runner, &all_units, jobs);
+    let (all_units, outputs) = crate::fall_back::with_fall_backs(&runner, study.solvers.fall_back, all_units, outputs, jobs);
     merge_units(study, out_dir, &shared, &all_units, outputs)
 }
 
@@ -1917,6 +1929,13 @@ pub fn summary_table(s: &RunSummary) -> String {
     // a reduced model dearer than the full order says so here, not among the row's warnings:
     // times differ from run to run, and `summary.json` of a reproducible run does not
     let dearer = |r: &SolverRow| r.speed_up.filter(|&x| x < 1.0).map(|x| format!("the reduced model cost more than the full order at this level: {:.2} s (basis and corrections included) vs {:.2} s", r.sweep_seconds, r.sweep_seconds * x));
+    for r in s.rows.iter().filter(|r| !r.stands_in_for.is_empty()) {
+        let of_case = if r.case.is_empty() { String::new() } else { format!(" of case {}", r.case) };
+        out.push_str(&format!("full order at a/a_ST = {:.1e}{of_case} gives the level's result in place of (solvers.fall_back):\n", r.level));
+        for why in &r.stands_in_for {
+            out.push_str(&format!("  {why}\n"));
+        }
+    }
     let flagged: Vec<&SolverRow> = s.rows.iter().filter(|r| !r.warnings.is_empty() || dearer(r).is_some()).collect();
     if !flagged.is_empty() {
         out.push_str("(!) read with care:\n");

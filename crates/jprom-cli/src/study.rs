@@ -44,6 +44,7 @@
 //! full_order = true
 //! fr = true
 //! nlr = true
+//! fall_back = false        # the full order where a reduced sweep is not trusted (jprom run --fall-back)
 //!
 //! [output]
 //! dir = "jprom-out"
@@ -859,11 +860,15 @@ pub struct SolverSpec {
     pub full_order: bool,
     pub fr: bool,
     pub nlr: bool,
+    /// Where a reduced sweep is not trusted or did not finish, the full order gives the
+    /// level's result, run there after the study's units when `full_order` is off
+    /// ([`crate::fall_back`]; `jprom run --fall-back`). Default off.
+    pub fall_back: bool,
 }
 
 impl Default for SolverSpec {
     fn default() -> Self {
-        SolverSpec { full_order: true, fr: true, nlr: true }
+        SolverSpec { full_order: true, fr: true, nlr: true, fall_back: false }
     }
 }
 

@@ -10,6 +10,7 @@
 //! `cargo bench --bench continuation_campaign` runs the whole campaign,
 //! `tests/continuation_campaign.rs` a subset with a fixed seed.
 
+pub mod diagnosis;
 pub mod mesh;
 pub mod model;
 
@@ -18,7 +19,7 @@ use jprom::condensation::CondensedSystem;
 use jprom::hbm::{solve_point, ContinuationMethod, sweep, HarmonicSystem, HbmOptions, PointSolution, SweepEnd, SweepGap, SweepOptions, SweepResult};
 use jprom::jp::PredictionOptions;
 use jprom::model::ContactCoordinates;
-use jprom::rom::error_metric::{actual_error, reduced_contact_displacement, POOR_BASIS_THRESHOLD};
+use jprom::rom::error_metric::POOR_BASIS_THRESHOLD;
 use jprom::rom::{adaptive_sweep, AdaptiveOptions, FrRom, NlrRom, ReducedModel, RomKind};
 use model::{Built, ModelSpec};
 use rand::rngs::StdRng;
@@ -291,16 +292,7 @@ pub fn run_level(index: usize, built: &Built, level: f64, harmonics: usize, nt: 
         let mut checks = RomChecks { judged: a.worst_error, trusted: a.trust.trusted, trust_reason: a.trust.reason.clone(), peak_omega_error, peak_x1_error, ..RomChecks::default() };
         let judged = a.judged_errors();
         for ((q, paper), &e_star) in a.sweep.points.iter().zip(&a.predicted_errors).zip(&judged) {
-            // the full-order solution at this frequency nearest the reduced point: solved from the
-            // full-order sweep's nearest points and from the reduced point itself (near a fold,
-            // or where several solutions lie close at gross slip, they can differ)
-            let lifted = reduced_contact_displacement(rom.as_ref(), q.omega, &q.z).ok().and_then(|w| solve_point(&condensed, q.omega, Some(&w), &hopts).ok());
-            let nearest = full_order_at(&condensed, &fo, q.omega, x1(q), &hopts)
-                .into_iter()
-                .chain(lifted)
-                .filter_map(|f| actual_error(rom.as_ref(), q.omega, &q.z, &f).ok().map(|e| (f, e)))
-                .min_by(|a, b| a.1[1].total_cmp(&b.1[1]));
-            let Some((f, e)) = nearest else { continue };
+            let Some((f, e)) = diagnosis::nearest_full_order(&condensed, &fo, rom.as_ref(), q, &hopts) else { continue };
             checks.compared += 1;
             let x1_error = (x1(q) - x1(&f)).abs() / x1(&f).max(1e-300);
             if e[1] > 1e-6 {

@@ -310,7 +310,7 @@ impl Trust {
         if let Some(&w) = above.iter().max_by(|&&a, &&b| nan_as_worst(judged[a]).total_cmp(&nan_as_worst(judged[b]))) {
             let e = nan_as_worst(judged[w]);
             let value = if e.is_finite() { format!("{e:.3e}") } else { "not bounded".into() };
-            why.push(format!("at {} of {} points the judged error is above the threshold {threshold} (worst {value}, at {:.6e} rad/s)", above.len(), judged.len(), sweep.points[w].omega));
+            why.push(format!("at {} of {} points the judged error is above the threshold {threshold:e} (worst {value}, at {:.6e} rad/s)", above.len(), judged.len(), sweep.points[w].omega));
         }
         if why.is_empty() {
             Trust { trusted: true, reason: None }

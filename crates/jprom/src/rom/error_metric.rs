@@ -234,10 +234,7 @@ fn newton_probe(rom: &dyn ReducedModel, condensed: &CondensedSystem, omega: f64,
     let f_rom = split(&contact_forces_with(rom, plan, &w, false)?.force, nw, 2 * hh + 1);
     let f_new = split(&contact_forces_with(rom, plan, &corrected, false)?.force, nw, 2 * hh + 1);
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let relative = |a: &[Vec<f64>], b: &[Vec<f64>], h: usize| {
-        let d: Vec<Vec<f64>> = a.iter().zip(b).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p - q).collect()).collect();
-        ratio(harmonic_norm(&d, h), harmonic_norm(&f_rom, h))
-    };
+    let relative = |a: &[Vec<f64>], b: &[Vec<f64>], h: usize| ratio(harmonic_norm(&difference(a, b), h), harmonic_norm(&f_rom, h));
     // a harmonic in which no contact carries force over the cycle (all open) has no force error;
     // its contact motion's error stands for it
     let w_parts = split(&w, nw, 2 * hh + 1);
