@@ -599,6 +599,8 @@ jprom_status jprom_basis_load_json(const char *path, jprom_basis **out);
 // like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
 // predictor `e*_h` at every point (`jprom_sweep_result_point_predicted_error`; above about 0.05
 // for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
+// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+// the contact coordinates and there are none" (every JP entry point says the same).
 jprom_status jprom_rom_sweep(const jprom_model *model,
                              const jprom_basis *basis,
                              int kind,
@@ -626,6 +628,8 @@ jprom_status jprom_jp_options_init(jprom_jp_options *out, size_t struct_size);
 // `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
 // `extra_outside`, `static_correction`; the sweep fields are ignored). `*out` is written only
 // on success; free it with `jprom_basis_free`.
+// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+// the contact coordinates and there are none" (every JP entry point says the same).
 jprom_status jprom_basis_predict_opts(const jprom_model *model,
                                       const jprom_hbm_options *options,
                                       const jprom_jp_options *jp_options,
@@ -641,6 +645,7 @@ jprom_status jprom_basis_predict_opts(const jprom_model *model,
 // solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
 // samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
 // written only on success; free it with `jprom_basis_free`. The solution stays the caller's.
+// A model without contacts: `JPROM_INVALID_VALUE`, as `jprom_basis_predict_opts`.
 jprom_status jprom_basis_from_solution(const jprom_model *model,
                                        const jprom_solution *solution,
                                        const jprom_hbm_options *options,
@@ -666,6 +671,8 @@ jprom_status jprom_basis_from_solution(const jprom_model *model,
 // On success `*out` receives the final sweep (free it with `jprom_sweep_result_free`) and, if
 // `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
 // On failure neither is written.
+// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+// the contact coordinates and there are none" (every JP entry point says the same).
 jprom_status jprom_rom_sweep_adaptive(const jprom_model *model,
                                       int kind,
                                       const jprom_hbm_options *options,

@@ -134,6 +134,8 @@ pub unsafe extern "C" fn jprom_basis_load_json(path: *const c_char, out: *mut *m
 /// like `jprom_sweep` (same callback and cancellation rules), and evaluates the error
 /// predictor `e*_h` at every point (`jprom_sweep_result_point_predicted_error`; above about 0.05
 /// for `h = 1` the basis is poor). Output amplitudes are physical, as for full-order sweeps.
+/// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+/// the contact coordinates and there are none" (every JP entry point says the same).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_rom_sweep(
     model: *const jprom_model,
@@ -186,6 +188,8 @@ fn rom_kind(kind: c_int) -> Result<RomKind, FfiError> {
 
 fn build_rom(m: &jprom_model, b: &JpBasis, kind: RomKind, disc: Discretisation) -> Result<Box<dyn ReducedModel>, FfiError> {
     let coords = ContactCoordinates::new(&m.model, disc)?;
+    // NLR's condensation would refuse it in its own words: JP's are the same at every entry
+    jprom::jp::require_contacts("reduced model", coords.n_w)?;
     let condensed = if kind == RomKind::Nlr { Some(CondensedSystem::new(&m.model, disc)?) } else { None };
     Ok(rom::reduced_model(kind, &coords, condensed.as_ref(), b)?)
 }
@@ -402,6 +406,8 @@ fn band_arg(omega_start: f64, omega_end: f64) -> Result<(f64, f64), FfiError> {
 /// `jprom_basis_predict` with every basis setting of `jp_options` (`gamma`, `n_samples`,
 /// `extra_outside`, `static_correction`; the sweep fields are ignored). `*out` is written only
 /// on success; free it with `jprom_basis_free`.
+/// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+/// the contact coordinates and there are none" (every JP entry point says the same).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_basis_predict_opts(
     model: *const jprom_model,
@@ -432,6 +438,7 @@ pub unsafe extern "C" fn jprom_basis_predict_opts(
 /// solution. `options->harmonics` must be the solution's `H`; `options->nt` sets the AFT
 /// samples. `JPROM_INVALID_VALUE` for a reduced solution (a point of a ROM sweep). `*out` is
 /// written only on success; free it with `jprom_basis_free`. The solution stays the caller's.
+/// A model without contacts: `JPROM_INVALID_VALUE`, as `jprom_basis_predict_opts`.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_basis_from_solution(
     model: *const jprom_model,
@@ -477,6 +484,8 @@ pub unsafe extern "C" fn jprom_basis_from_solution(
 /// On success `*out` receives the final sweep (free it with `jprom_sweep_result_free`) and, if
 /// `basis_out` is not NULL, `*basis_out` the final basis (free it with `jprom_basis_free`).
 /// On failure neither is written.
+/// A model without contacts: `JPROM_INVALID_VALUE`, "the model has no contact: JP reduces onto
+/// the contact coordinates and there are none" (every JP entry point says the same).
 #[no_mangle]
 pub unsafe extern "C" fn jprom_rom_sweep_adaptive(
     model: *const jprom_model,

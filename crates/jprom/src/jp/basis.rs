@@ -123,6 +123,7 @@ impl JpBasis {
     /// `fo` is not laid out as a full-order or condensed solution of `coords` (e.g. a reduced
     /// solution); as [`JpBasis::from_jacobian`].
     pub fn from_solution(coords: &ContactCoordinates, fo: &PointSolution, opts: &BasisOptions) -> Result<Self> {
+        super::require_contacts("JP basis", coords.n_w)?;
         let plan = &coords.discretisation.plan()?;
         let hh = plan.harmonics();
         if fo.layout.harmonics != hh {

@@ -29,6 +29,22 @@ use crate::contact::ContactLaw;
 use crate::error::{JpError, Result};
 use faer::Mat;
 
+/// Why JP cannot reduce a model without contacts: the one message of every JP entry point
+/// (prediction, JP modes, bases, FR, the self-correcting sweep) on such a model.
+pub const NO_CONTACTS: &str = "the model has no contact: JP reduces onto the contact coordinates and there are none (sweep the full order instead)";
+
+/// [`JpError::InvalidValue`] with [`NO_CONTACTS`] for `what` where the model has no contact
+/// coordinates.
+///
+/// # Errors
+/// As said.
+pub fn require_contacts(what: &str, n_w: usize) -> Result<()> {
+    if n_w == 0 {
+        return Err(JpError::invalid(what, NO_CONTACTS));
+    }
+    Ok(())
+}
+
 /// The boundary conditions of JP (§6): the contact stiffness `K̂ = dF/dw` of all contacts at one
 /// state, assembled densely over the contact coordinates in the harmonic-major layout of
 /// [`crate::aft`] (entry `(k n_w + i, l n_w + j)` is `dF_{k,i} / dw_{l,j}`), plus the part of

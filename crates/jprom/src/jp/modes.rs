@@ -215,6 +215,7 @@ pub(crate) fn modes_of_active_part(coords: &ContactCoordinates, part: &ActivePar
 fn check_inputs(coords: &ContactCoordinates, k_hat: &ContactJacobian, opts: &ModeOptions) -> Result<(usize, usize, usize)> {
     let n = coords.stiffness.nrows();
     let nw = coords.n_w;
+    super::require_contacts("JP modes", nw)?;
     let hh = k_hat.harmonics;
     if hh == 0 {
         return Err(JpError::invalid("harmonics", "JP modes need H >= 1"));

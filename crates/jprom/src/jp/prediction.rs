@@ -581,6 +581,7 @@ impl PredictedModes {
 pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> Result<(PredictedModes, PredictionReport)> {
     let n = coords.n_dof;
     let nw = coords.n_w;
+    super::require_contacts("JP prediction", nw)?;
     let plan = &coords.discretisation.plan()?;
     let hh = plan.harmonics();
     if opts.n_samples == 0 {

@@ -678,6 +678,7 @@ pub fn adaptive_sweep_with_progress(
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
     check_options(aopts, model.output_dofs.len())?;
+    crate::jp::require_contacts("adaptive sweep", model.contacts.len())?;
     let discretisation = discretisation.into();
     let coords = ContactCoordinates::new(model, discretisation)?;
     let checkable = checkable(&coords);
@@ -710,6 +711,7 @@ pub fn adaptive_sweep_from(
     on_point: &mut dyn FnMut(usize, &PointSolution) -> ControlFlow<()>,
 ) -> Result<AdaptiveSweep> {
     check_options(aopts, coords.output_dofs.len())?;
+    crate::jp::require_contacts("adaptive sweep", coords.n_w)?;
     if aopts.kind == RomKind::Nlr && condensed.is_none() {
         return Err(JpError::invalid("adaptive sweep", "NLR needs the condensed full-order system"));
     }

@@ -69,6 +69,7 @@ impl FrRom {
     /// # Errors
     /// As [`FrRom::with_jp_rows`] and [`band_condensed_basis`].
     pub fn new(coords: &ContactCoordinates, basis: &JpBasis) -> Result<Self> {
+        crate::jp::require_contacts("FR reduced model", coords.n_w)?;
         match basis.band {
             Some(band) => Self::band_condensed(coords, basis, band),
             None => Self::with_jp_rows(coords, basis),
@@ -82,6 +83,7 @@ impl FrRom {
     /// [`JpError::BadSize`] if the basis does not match the model; [`JpError::InvalidValue`] if
     /// the basis has no first-harmonic column or `coords` lacks forces for some harmonic.
     pub fn with_jp_rows(coords: &ContactCoordinates, basis: &JpBasis) -> Result<Self> {
+        crate::jp::require_contacts("FR reduced model", coords.n_w)?;
         let n = coords.n_dof;
         let hh = basis.harmonics();
         if basis.n_dof != n || basis.n_w != coords.n_w {
@@ -150,6 +152,7 @@ impl FrRom {
     /// # Errors
     /// As [`band_condensed_basis`] and [`FrRom::new`].
     pub fn band_condensed(coords: &ContactCoordinates, basis: &JpBasis, band: (f64, f64)) -> Result<Self> {
+        crate::jp::require_contacts("FR reduced model", coords.n_w)?;
         Self::with_jp_rows(coords, &band_condensed_basis(coords, basis, band)?)
     }
 
