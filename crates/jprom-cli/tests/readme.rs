@@ -150,9 +150,9 @@ fn licence_files_and_ignored_output_folders_are_as_the_readme_says() {
         assert!(text.contains(&format!("`{dir}/`")), "README does not name {dir}/");
     }
     // the README's output section names every plot file the runner writes
-    let run = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/run.rs")).unwrap();
+    let plots = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/study_plots.rs")).unwrap();
     for prefix in ["frf_", "predicted_error_vs_frequency_", "energy_"] {
-        assert!(run.contains(&format!("\"{prefix}alpha_ST_x{{level:e}}.svg\"")), "run.rs writes {prefix}*");
+        assert!(plots.contains(&format!("\"{prefix}alpha_ST_x{{level:e}}.svg\"")), "study_plots.rs writes {prefix}*");
         assert!(text.contains(&format!("`{prefix}*`")), "README does not name {prefix}*");
     }
 }
