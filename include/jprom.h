@@ -76,6 +76,13 @@
 // `jprom_jp_options`).
 #define JPROM_MAX_SAMPLES 10000
 
+// Largest magnitude of any real input of a model: entries of `M`, `K` and the damping, the
+// damping coefficients, forces (the harmonic ones times their scale) and contact
+// parameters. Beyond it, or with a load whose static displacement scale
+// `|f|_inf / max_i K_ii` exceeds 1e50, a setter returns `JPROM_INVALID_VALUE` and leaves
+// the model unchanged.
+#define JPROM_MAX_MAGNITUDE 1e100
+
 // Largest model size accepted by `jprom_model_new_csc` (the model is stored dense:
 // two `n x n` matrices of doubles).
 #define JPROM_DENSE_MAX_DOF 10000
@@ -797,6 +804,18 @@ jprom_status jprom_sweep_correction(const jprom_sweep_result *sweep,
 // default, 70 % of the machine's memory (or of the cgroup limit). Process-wide.
 jprom_status jprom_set_memory_budget(size_t bytes);
 
+// Sets the time budget in seconds: the ceiling for the estimated time of one stage whose
+// cost grows as a power of sizes from the caller (a JP prediction's dense eigenproblems of
+// order `2 H n` at a high harmonic count `H`). The estimate counts floating-point
+// operations at an assumed 2e9 per second, before any of that work; a stage estimated above
+// the budget returns `JPROM_BAD_SIZE` with the estimate. `seconds = 0` restores the default
+// of 3600 s; a negative or non-finite value is `JPROM_INVALID_VALUE` and changes nothing.
+// Process-wide.
+jprom_status jprom_set_time_budget(double seconds);
+
+// The time budget in force, in seconds (see `jprom_set_time_budget`).
+jprom_status jprom_time_budget(double *out);
+
 // The memory budget in force, in bytes (see `jprom_set_memory_budget`).
 jprom_status jprom_memory_budget(size_t *out);
 
@@ -912,6 +931,13 @@ jprom_status jprom_model_excitation_level(const jprom_model *model, double *out)
 // the contact), so the local displacement is `w = R (x_a - x_b)`. Tangential stiffnesses
 // `kt1`, `kt2`, normal stiffness `kn`, friction coefficient `mu` (all `>= 0`), normal preload
 // `n0` (`N = max(0, n0 + kn v)`). The new contact's index is the previous contact count.
+// Values beyond `JPROM_MAX_MAGNITUDE` are `JPROM_INVALID_VALUE`.
+//
+// Parallel elements: a second contact with the same `dofs_a`, `dofs_b` and `frame` is
+// accepted and acts in parallel with the first (their forces add on the same relative
+// displacement; docs/formulation.md §4.6), as two friction elements of one contact patch do.
+// A node's DoFs that are the `a` DoFs of another contact with different `dofs_b` or frame
+// are `JPROM_INVALID_VALUE`; a node `b` that is another contact's node `a` chains them.
 jprom_status jprom_model_add_contact_3d(jprom_model *model,
                                         const size_t *dofs_a,
                                         const size_t *dofs_b,

@@ -428,6 +428,13 @@ fn push_contact(m: &mut jprom_model, c: Contact) -> Result<()> {
 /// the contact), so the local displacement is `w = R (x_a - x_b)`. Tangential stiffnesses
 /// `kt1`, `kt2`, normal stiffness `kn`, friction coefficient `mu` (all `>= 0`), normal preload
 /// `n0` (`N = max(0, n0 + kn v)`). The new contact's index is the previous contact count.
+/// Values beyond `JPROM_MAX_MAGNITUDE` are `JPROM_INVALID_VALUE`.
+///
+/// Parallel elements: a second contact with the same `dofs_a`, `dofs_b` and `frame` is
+/// accepted and acts in parallel with the first (their forces add on the same relative
+/// displacement; docs/formulation.md §4.6), as two friction elements of one contact patch do.
+/// A node's DoFs that are the `a` DoFs of another contact with different `dofs_b` or frame
+/// are `JPROM_INVALID_VALUE`; a node `b` that is another contact's node `a` chains them.
 #[no_mangle]
 pub unsafe extern "C" fn jprom_model_add_contact_3d(
     model: *mut jprom_model,

@@ -72,7 +72,7 @@ pub(crate) fn status_of(e: &JpError) -> jprom_status {
         JpError::Parse { .. } => JPROM_PARSE,
         JpError::Cancelled => JPROM_CANCELLED,
         JpError::Eigen { .. } => JPROM_EIGEN,
-        JpError::TooLarge { .. } | JpError::OverLimit { .. } => JPROM_BAD_SIZE,
+        JpError::TooLarge { .. } | JpError::TooLong { .. } | JpError::OverLimit { .. } => JPROM_BAD_SIZE,
         JpError::Callback { .. } => JPROM_CALLBACK_ERROR,
     }
 }
@@ -81,6 +81,7 @@ impl From<JpError> for FfiError {
     fn from(e: JpError) -> Self {
         let message = match &e {
             JpError::TooLarge { .. } => format!("{e} (raise it with jprom_set_memory_budget if the machine has the memory)"),
+            JpError::TooLong { .. } => format!("{e} (raise it with jprom_set_time_budget)"),
             _ => e.to_string(),
         };
         FfiError { status: status_of(&e), message }

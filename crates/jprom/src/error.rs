@@ -18,11 +18,13 @@ pub enum JpError {
     #[error("singular matrix: {what}")]
     SingularMatrix { what: String },
 
-    /// An iterative solver stopped without meeting its tolerance.
-    /// `iterations` 0 and a non-finite `residual` where the step that failed was not an
-    /// iteration (a point refused by the continuation): the message then says neither.
-    #[error("no convergence in {what}{}", convergence_tail(*iterations, *residual))]
-    NoConvergence { what: String, iterations: usize, residual: f64 },
+    /// An iterative solver stopped without meeting its tolerance: `residual` is the last
+    /// one it reached, `tolerance` the one it was asked for (both relative, as the solver
+    /// measures them). `iterations` 0 and a non-finite `residual` or `tolerance` where the step
+    /// that failed was not an iteration (a point refused by the continuation): the message
+    /// then says nothing it does not know.
+    #[error("no convergence in {what}{}", convergence_tail(*iterations, *residual, *tolerance))]
+    NoConvergence { what: String, iterations: usize, residual: f64, tolerance: f64 },
 
     /// Reading or writing a file failed, or a file is malformed.
     #[error("I/O error on {path}: {reason}")]
@@ -47,6 +49,13 @@ pub enum JpError {
     #[error("{what} is too large: it needs about {}, more than the memory budget of {}", human_bytes(*bytes), human_bytes(*budget as u128))]
     TooLarge { what: String, bytes: u128, budget: usize },
 
+    /// What sizes from outside ask for would take longer than the time budget
+    /// ([`crate::time_budget`]) at the assumed rate; nothing was computed.
+    /// `flops` and `seconds` NaN where the work was stopped at the budget instead
+    /// ([`crate::time_budget::Deadline`]).
+    #[error("{}", too_long(what, *flops, *seconds, *budget))]
+    TooLong { what: String, flops: f64, seconds: f64, budget: f64 },
+
     /// A size from outside exceeds one of jprom's documented caps ([`crate::limits`]).
     #[error("{what} = {value} is above jprom's limit of {limit}")]
     OverLimit { what: String, value: u128, limit: u128 },
@@ -58,17 +67,42 @@ pub enum JpError {
     Callback { element: String, sample: usize, reason: String },
 }
 
-/// `" after N iterations (residual r)"`, without the parts that are not known: no NaN and no
-/// "after 0 iterations" in a message.
-fn convergence_tail(iterations: usize, residual: f64) -> String {
+/// `" after N iterations (residual r, tolerance t)"`, without the parts that are not
+/// known: no NaN and no "after 0 iterations" in a message.
+fn convergence_tail(iterations: usize, residual: f64, tolerance: f64) -> String {
     let mut tail = String::new();
     if iterations > 0 {
         tail += &format!(" after {iterations} iterations");
     }
-    if residual.is_finite() {
-        tail += &format!(" (residual {residual:.3e})");
+    match (residual.is_finite(), tolerance.is_finite()) {
+        (true, true) => tail += &format!(" (residual {residual:.3e}, tolerance {tolerance:.3e})"),
+        (true, false) => tail += &format!(" (residual {residual:.3e})"),
+        _ => {}
     }
     tail
+}
+
+fn too_long(what: &str, flops: f64, seconds: f64, budget: f64) -> String {
+    if flops.is_finite() && seconds.is_finite() {
+        format!(
+            "{what} is too large: it needs about {flops:.1e} floating-point operations, about {} at the assumed rate, more than the time budget of {}",
+            seconds_text(seconds),
+            seconds_text(budget)
+        )
+    } else {
+        format!("{what} took longer than the time budget of {}", seconds_text(budget))
+    }
+}
+
+/// `"500 s"`, `"2.5 h"`: a duration for a message.
+fn seconds_text(s: f64) -> String {
+    if s < 10.0 {
+        format!("{s:.2} s")
+    } else if s < 1e4 {
+        format!("{} s", s.round())
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
 }
 
 fn at_line(line: usize) -> String {
@@ -131,10 +165,11 @@ mod tests {
 
     #[test]
     fn a_convergence_message_says_only_what_it_knows() {
-        let e = |iterations, residual| JpError::NoConvergence { what: "x".into(), iterations, residual }.to_string();
-        assert_eq!(e(3, 0.5), "no convergence in x after 3 iterations (residual 5.000e-1)");
-        assert_eq!(e(0, f64::NAN), "no convergence in x");
-        assert_eq!(e(7, f64::INFINITY), "no convergence in x after 7 iterations");
-        assert!(!e(0, f64::NAN).contains("NaN"));
+        let e = |iterations, residual, tolerance| JpError::NoConvergence { what: "x".into(), iterations, residual, tolerance }.to_string();
+        assert_eq!(e(3, 0.5, f64::NAN), "no convergence in x after 3 iterations (residual 5.000e-1)");
+        assert_eq!(e(12, 1.807e-10, 1e-10), "no convergence in x after 12 iterations (residual 1.807e-10, tolerance 1.000e-10)");
+        assert_eq!(e(0, f64::NAN, 1e-10), "no convergence in x");
+        assert_eq!(e(7, f64::INFINITY, 1e-10), "no convergence in x after 7 iterations");
+        assert!(!e(0, f64::NAN, f64::NAN).contains("NaN"));
     }
 }

@@ -70,6 +70,7 @@
 pub mod error;
 pub mod limits;
 pub mod memory;
+pub mod time_budget;
 pub mod parallelism;
 pub mod linalg;
 pub mod model;

@@ -30,6 +30,27 @@ pub const MAX_BLADE_REFINEMENT: usize = 15;
 /// Largest row or column count of a dense matrix read from a JSON file.
 pub const MAX_DENSE_DIM: usize = 1 << 20;
 
+/// Largest magnitude of any real input of a model (mass, stiffness and damping entries,
+/// damping coefficients, forces, contact parameters): `1e100`. Beyond it the squares that norms
+/// and energies take overflow (`1e200` squared is infinite), and a residual measured against
+/// an infinite reference force reads as zero: the input is refused instead.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
+/// Largest static displacement scale of a load against the model's own stiffness,
+/// `|f|_inf / max_i K_ii`: `1e50` (in the model's length unit). No structure in any unit system
+/// comes near it; past it the response's squares leave the range of `f64`.
+pub const MAX_DISPLACEMENT_SCALE: f64 = 1e50;
+
+/// `Ok` if every value is finite and at most [`MAX_MAGNITUDE`] in magnitude; else
+/// [`JpError::InvalidValue`] naming `what` and the first offending entry.
+pub fn check_magnitude(what: &str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !(v.abs() <= MAX_MAGNITUDE)) {
+        None => Ok(()),
+        Some(i) if !values[i].is_finite() => Err(JpError::invalid(what, format!("entry {i} is not finite ({})", values[i]))),
+        Some(i) => Err(JpError::invalid(what, format!("entry {i} is {:e}, beyond jprom's magnitude limit of {MAX_MAGNITUDE:e}", values[i]))),
+    }
+}
+
 /// `Ok` if `value <= limit`, else [`JpError::OverLimit`] naming `what`.
 pub fn at_most(what: &str, value: usize, limit: usize) -> Result<()> {
     if value <= limit {

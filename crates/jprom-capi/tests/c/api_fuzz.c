@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 /* calls the deprecated functions too: they stay in the ABI and must keep working */
 #define JPROM_NO_DEPRECATION_WARNINGS
 #include "jprom.h"
@@ -553,9 +554,15 @@ static void one_call(void) {
         case 1: seen("jprom_sweep_options_default", jprom_sweep_options_default(chance(90) ? &so : NULL)); break;
         default: seen("jprom_jp_options_default", jprom_jp_options_default(chance(90) ? &jo : NULL));
         }
-    } else if (k < 850) { /* the memory budget, within sane bounds */
+    } else if (k < 850) { /* the memory and time budgets, within sane bounds */
         static const size_t budgets[] = {0, 0, 0, 1000, 1 << 20, (size_t)1 << 30};
         seen("jprom_set_memory_budget", jprom_set_memory_budget(budgets[below(6)]));
+        /* hostile values are refused and leave the harness's budget of 2 s in force */
+        static const double seconds[] = {-1.0, 1e-300, 2.0, 2.0, 1.0 / 0.0};
+        double sec = seconds[below(5)], now_budget = 0.0;
+        jprom_status tb = seen("jprom_set_time_budget", jprom_set_time_budget(chance(10) ? NAN : sec));
+        if (tb == JPROM_OK && sec != 2.0) jprom_set_time_budget(2.0);
+        seen("jprom_time_budget", jprom_time_budget(chance(90) ? &now_budget : NULL));
         size_t out;
         seen("jprom_memory_budget", jprom_memory_budget(chance(90) ? &out : NULL));
         if (chance(20)) {
@@ -585,7 +592,20 @@ int main(int argc, char **argv) {
     signal(SIGTERM, on_term);
     setvbuf(stdout, NULL, _IOLBF, 0);
     for (size_t i = 0; i < 4; ++i) models[i] = chain(1 + i, (int)(i % 3));
-    while (calls < n) one_call();
+    /* every stage that the time budget bounds stops within 2 s and one piece */
+    jprom_set_time_budget(2.0);
+    double slowest = 0.0;
+    const char *slowest_name = "(none)";
+    while (calls < n) {
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        one_call();
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        double dt = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        if (dt > slowest) slowest = dt, slowest_name = last_returned;
+    }
+    printf("slowest call: %.2f s (%s)\n", slowest, slowest_name);
+    jprom_set_time_budget(0.0);
     /* free everything left, then no handle may remain */
     for (size_t i = 0; i < POOL; ++i) {
         seen("jprom_model_free", jprom_model_free(models[i]));

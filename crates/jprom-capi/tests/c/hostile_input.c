@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 /* calls the deprecated functions too: they stay in the ABI and must keep working */
 #define JPROM_NO_DEPRECATION_WARNINGS
 #include "jprom.h"
@@ -323,6 +324,56 @@ int main(int argc, char **argv) {
         expect(jprom_fe_model_modes(NULL, 3, hz), JPROM_NULL_ARGUMENT, "FE modes of NULL", "fe");
         expect(jprom_fe_model_fix_dof(NULL, 1, 0), JPROM_NULL_ARGUMENT, "fix a DoF of NULL", "fe");
         expect(jprom_fe_model_reduce_cutoff(NULL, 1000.0, 10, &m2), JPROM_NULL_ARGUMENT, "reduce NULL with a cut-off", "fe");
+    }
+
+    /* absurd magnitudes (issue 60): refused by the setter, the model unchanged; a solve after
+     * them uses the force that was there and reduces its residual to the tolerance */
+    {
+        enum { N = 6 };
+        double f_huge[N] = {1e200, 0, 0, 0, 0, 0}, f_far[N] = {1e60, 0, 0, 0, 0, 0}, f_inf[N] = {1.0 / 0.0, 0, 0, 0, 0, 0};
+        expect(jprom_model_set_harmonic_force(model, 1, f_huge, NULL, N), JPROM_INVALID_VALUE, "a harmonic force of 1e200", "beyond jprom's magnitude limit of 1e100");
+        expect(jprom_model_set_harmonic_force(model, 1, NULL, f_inf, N), JPROM_INVALID_VALUE, "an infinite harmonic force", "not finite");
+        expect(jprom_model_set_static_force(model, f_huge, N), JPROM_INVALID_VALUE, "a static force of 1e200", "beyond jprom's magnitude limit");
+        expect(jprom_model_set_harmonic_force(model, 1, f_far, NULL, N), JPROM_INVALID_VALUE, "a force 1e56 times the static scale of the stiffness", "is a displacement scale of");
+        expect(jprom_model_set_dynamic_scale(model, 1e95), JPROM_INVALID_VALUE, "a force scale that makes the force 5e95", "displacement scale");
+        const size_t node[3] = {3, 4, 5};
+        const double frame[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        expect(jprom_model_add_contact_3d(model, node, NULL, frame, 3e4, 3e4, 1e200, 0.5, 20.0), JPROM_INVALID_VALUE, "a normal stiffness of 1e200", "kn");
+        expect(jprom_model_add_contact_3d(model, node, NULL, frame, 3e4, 3e4, 5e4, 0.5, -1e150), JPROM_INVALID_VALUE, "a preload of -1e150", "n0");
+        double m[N * N] = {0}, k[N * N] = {0};
+        for (int d = 0; d < N; ++d) m[d + d * N] = 1.0, k[d + d * N] = 1e4;
+        k[0] = 1e200;
+        jprom_model *absurd = NULL;
+        expect(jprom_model_new(N, m, k, &absurd), JPROM_INVALID_VALUE, "a stiffness entry of 1e200", "entry (0, 0) is 1e200");
+        check(absurd == NULL, "no model from an absurd stiffness");
+        jprom_solution *after = NULL;
+        expect(jprom_solve_point(model, 100.0, &opts, &after), JPROM_OK, "a solve after the refused magnitudes", NULL);
+        double res = 1.0, amp = 0.0;
+        jprom_solution_convergence(after, NULL, &res);
+        jprom_solution_amplitude(after, 1, 0, &amp);
+        check(res <= opts.residual_tolerance && amp > 0.0, "its residual is within the tolerance, its amplitude that of the force kept");
+        jprom_solution_free(after);
+    }
+
+    /* the time budget (issue 60): a harmonic count whose dense JP eigenproblems would take
+     * minutes is refused at once with the estimate */
+    {
+        double seconds = 0.0;
+        expect(jprom_time_budget(&seconds), JPROM_OK, "the default time budget", NULL);
+        check(seconds == 3600.0, "the default time budget is an hour");
+        expect(jprom_set_time_budget(-1.0), JPROM_INVALID_VALUE, "a negative time budget", "must be finite and > 0 seconds");
+        expect(jprom_set_time_budget(0.0 / 0.0), JPROM_INVALID_VALUE, "a NaN time budget", "must be finite and > 0 seconds");
+        expect(jprom_set_time_budget(1.0), JPROM_OK, "a time budget of 1 s", NULL);
+        jprom_hbm_options h64 = opts;
+        h64.harmonics = 64;
+        jprom_basis *b64 = NULL;
+        clock_t c0 = clock();
+        expect(jprom_basis_predict_opts(model, &h64, &jp, 60.0, 160.0, &b64), JPROM_BAD_SIZE, "basis_predict_opts at H = 64 beyond a 1 s budget", "than the time budget of 1.00 s (raise it with jprom_set_time_budget)");
+        check(b64 == NULL, "nothing written");
+        printf("H = 64 refused after %.1f s of CPU\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
+        expect(jprom_set_time_budget(0.0), JPROM_OK, "the default time budget restored", NULL);
+        jprom_time_budget(&seconds);
+        check(seconds == 3600.0, "restored to an hour");
     }
 
     jprom_solution_free(sol);

@@ -274,18 +274,23 @@ impl ContactLaw {
     /// finite; it needs one to [`POLYNOMIAL_MAX_TERMS`] of them), an empty or nested
     /// [`ContactLaw::Parallel`] and one whose members differ in dimension.
     pub fn validate(&self, what: &str) -> Result<()> {
+        let limit = crate::limits::MAX_MAGNITUDE;
         let check = |name: &str, v: f64| -> Result<()> {
             if !v.is_finite() || v < 0.0 {
                 Err(JpError::invalid(format!("{what}.{name}"), format!("must be finite and >= 0, got {v}")))
+            } else if v > limit {
+                Err(JpError::invalid(format!("{what}.{name}"), format!("is {v:e}, beyond jprom's magnitude limit of {limit:e}")))
             } else {
                 Ok(())
             }
         };
         let finite = |name: &str, v: f64| -> Result<()> {
-            if v.is_finite() {
-                Ok(())
-            } else {
+            if !v.is_finite() {
                 Err(JpError::invalid(format!("{what}.{name}"), format!("must be finite, got {v}")))
+            } else if v.abs() > limit {
+                Err(JpError::invalid(format!("{what}.{name}"), format!("is {v:e}, beyond jprom's magnitude limit of {limit:e}")))
+            } else {
+                Ok(())
             }
         };
         match self {
@@ -335,10 +340,7 @@ impl ContactLaw {
                 check("kt2", kt2)?;
                 check("kn", kn)?;
                 check("mu", mu)?;
-                if !n0.is_finite() {
-                    return Err(JpError::invalid(format!("{what}.n0"), format!("must be finite, got {n0}")));
-                }
-                Ok(())
+                finite("n0", n0)
             }
             &ContactLaw::Jenkins { kt, mu, normal_load } => {
                 check("kt", kt)?;

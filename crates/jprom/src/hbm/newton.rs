@@ -256,5 +256,5 @@ pub(crate) fn solve(problem: &mut dyn NonlinearProblem, x0: Vec<f64>, settings: 
             break;
         }
     }
-    Err(fail(iterations, rel, JpError::NoConvergence { what: format!("Newton on the {}", problem.what()), iterations, residual: rel }))
+    Err(fail(iterations, rel, JpError::NoConvergence { what: format!("Newton on the {}", problem.what()), iterations, residual: rel, tolerance: settings.tolerance }))
 }

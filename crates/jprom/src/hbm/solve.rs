@@ -64,6 +64,10 @@ impl NonlinearProblem for PointProblem<'_> {
     fn evaluate(&mut self, z: &[f64], want_jacobian: bool, out: &mut Evaluation) -> Result<()> {
         evaluate_into(self.system, self.lin, self.plan, z, want_jacobian, self.ws, &mut out.r, &mut out.jac)?;
         let f_ref = *self.f_ref.get_or_insert_with(|| reference_force(self.lin, self.ws.contact_force_norm(), norm2(&out.r)));
+        if !f_ref.is_finite() {
+            // every residual would read as zero against it
+            return Err(JpError::invalid("the residual's reference force", "is not finite (the forces' squares overflow): scale the model's units"));
+        }
         let s = 1.0 / f_ref;
         out.r.iter_mut().for_each(|v| *v *= s);
         if let (true, Some(j)) = (want_jacobian, out.jac.as_mut()) {
@@ -212,7 +216,7 @@ pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec
                         o.iterations += it2;
                         o
                     }).map_err(|e| match e {
-                        JpError::NoConvergence { iterations: it3, residual, .. } => JpError::NoConvergence { what: String::new(), iterations: it2 + it3, residual },
+                        JpError::NoConvergence { iterations: it3, residual, tolerance, .. } => JpError::NoConvergence { what: String::new(), iterations: it2 + it3, residual, tolerance },
                         other => other,
                     })
                 }
@@ -224,10 +228,11 @@ pub(crate) fn solve_with_fallback(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec
             }).map_err(|ls| match ls {
                 // report the first attempt's residual, and all iterations spent
                 JpError::NoConvergence { iterations: it2, .. } => match e {
-                    JpError::NoConvergence { what, residual, .. } => JpError::NoConvergence {
+                    JpError::NoConvergence { what, residual, tolerance, .. } => JpError::NoConvergence {
                         what: format!("{what}, then {}load stepping and continuation in the forcing level", if cold { "from the linear limit, " } else { "" }),
                         iterations: iterations + it2,
                         residual,
+                        tolerance,
                     },
                     other => other,
                 },
@@ -275,6 +280,7 @@ fn load_stepping(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budget: us
         what: format!("HBM load stepping at omega = {omega}"),
         iterations,
         residual,
+        tolerance: at.opts.residual_tolerance,
     };
     let mut used = 0;
     let mut current = match newton(at, &lin.with_harmonic_forces_scaled(0.0), z0, budget, ws) {
@@ -378,6 +384,7 @@ fn level_continuation(at: AtFrequency<'_>, lin: &LinearPart, z0: Vec<f64>, budge
         what: format!("HBM continuation in the forcing level at omega = {omega}"),
         iterations,
         residual,
+        tolerance: opts.residual_tolerance,
     };
     let lin0 = lin.with_harmonic_forces_scaled(0.0);
     let start = newton(at, &lin0, z0, budget, ws).map_err(|f| match f.error {

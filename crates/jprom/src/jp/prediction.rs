@@ -383,7 +383,7 @@ pub fn static_solution(coords: &ContactCoordinates) -> Result<Vec<f64>> {
     if rn <= 1e-8 * scale {
         return Ok(q);
     }
-    Err(JpError::NoConvergence { what: "static solution with contacts".into(), iterations: 60, residual: rn / scale })
+    Err(JpError::NoConvergence { what: "static solution with contacts".into(), iterations: 60, residual: rn / scale, tolerance: 1e-8 })
 }
 
 /// Linear estimate `|(D_1 + K̂)^-1 f_E^1|` at `omega` (cos and sin parts together), `K + K̂`
@@ -676,7 +676,17 @@ pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             let at_once = reference_patterns_at_once(per_pattern, budget.saturating_sub(reference_working_set_bytes(n, nw, hh).min(usize::MAX as u128) as usize), parts.len());
             estimated_bytes = check(at_once, per_pattern, reference_working_set_bytes(n, nw, hh), "on a shared reference, ")?;
             active_coordinates = Some(parts.iter().map(ActivePart::len).collect());
-            let modes_of = |part: &ActivePart| modes_of_active_part(coords, part, &opts.modes, reference);
+            // shift-invert: the modes in the band grow with H and no estimate bounds the
+            // cost beforehand; the budget stops it between patterns
+            let deadline = crate::time_budget::Deadline::start();
+            let done = std::sync::atomic::AtomicUsize::new(0);
+            let what = format!("the JP prediction at H = {hh} ({} contact pattern(s), shift-invert on a shared reference)", parts.len());
+            let modes_of = |part: &ActivePart| {
+                deadline.check(&what, done.load(std::sync::atomic::Ordering::Relaxed), parts.len())?;
+                let m = modes_of_active_part(coords, part, &opts.modes, reference);
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                m
+            };
             // the costliest first: the capacitance's factorisation grows as r_l^3
             let mut order: Vec<usize> = (0..parts.len()).collect();
             order.sort_by_key(|&i| std::cmp::Reverse((parts[i].lead.len(), parts[i].len())));
@@ -687,9 +697,23 @@ pub fn predict_modes(coords: &ContactCoordinates, opts: &PredictionOptions) -> R
             let per_pattern = pattern_working_set_bytes(n, nw, hh);
             let at_once = patterns_at_once(per_pattern, budget, opts.n_samples);
             estimated_bytes = check(at_once, per_pattern, 0, "")?;
+            if opts.modes.solver.resolve(2 * hh * n) == EigenSolver::Dense {
+                // each pattern's dense eigenproblem of order 2 H n dominates
+                let order = 2 * hh * n;
+                crate::time_budget::check(
+                    &format!("the JP prediction at H = {hh} ({} contact pattern(s), a dense eigenproblem of order {order} each)", chosen.len()),
+                    chosen.len() as f64 * (crate::time_budget::eigen_flops(order) + 2.0 * crate::time_budget::lu_flops(n)),
+                )?;
+            }
+            let deadline = crate::time_budget::Deadline::start();
+            let done = std::sync::atomic::AtomicUsize::new(0);
+            let what = format!("the JP prediction at H = {hh} ({} contact pattern(s))", chosen.len());
             let modes_of = |x: &Sampled| -> Result<JpModes> {
+                deadline.check(&what, done.load(std::sync::atomic::Ordering::Relaxed), chosen.len())?;
                 let kj = ContactJacobian::from_forces(&coords.laws, &coords.offsets, nw, hh, &x.forces, &x.w)?;
-                jp_modes(coords, &kj, &opts.modes)
+                let m = jp_modes(coords, &kj, &opts.modes);
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                m
             };
             let order: Vec<usize> = (0..chosen.len()).collect();
             in_parallel(at_once, &chosen, &order, modes_of)?

@@ -7,7 +7,8 @@ pub mod modes;
 
 use crate::contact::Contact;
 use crate::io::documents::Document;
-use crate::error::{check_finite, JpError, Result};
+use crate::error::{JpError, Result};
+use crate::limits::{check_magnitude, MAX_DISPLACEMENT_SCALE};
 use crate::linalg::{check_symmetric, norm2, serde_mat};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -139,6 +140,18 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
+/// [`check_magnitude`] on every entry of `m`, naming the first offending `(i, j)`.
+fn matrix_magnitude(what: &str, m: &Mat<f64>) -> Result<()> {
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            check_magnitude(what, &[m[(i, j)]]).map_err(|_| {
+                JpError::invalid(what, format!("entry ({i}, {j}) is {:e}, beyond jprom's magnitude limit of {:e}", m[(i, j)], crate::limits::MAX_MAGNITUDE))
+            })?;
+        }
+    }
+    Ok(())
+}
+
 /// Serde adapter for `Option<Mat<f64>>` (absent = `None`).
 mod serde_opt_mat {
     use super::serde_mat;
@@ -196,13 +209,15 @@ impl Model {
         }
         check_symmetric("stiffness", &self.stiffness, SYMMETRY_TOLERANCE)?;
         check_symmetric("mass", &self.mass, SYMMETRY_TOLERANCE)?;
+        matrix_magnitude("stiffness", &self.stiffness)?;
+        matrix_magnitude("mass", &self.mass)?;
         for i in 0..n {
             if !(self.mass[(i, i)] > 0.0) {
                 return Err(JpError::invalid("mass", format!("diagonal entry {i} is not positive ({})", self.mass[(i, i)])));
             }
         }
         let d = self.damping;
-        check_finite("damping", &[d.mass_coeff, d.stiffness_coeff])?;
+        check_magnitude("damping", &[d.mass_coeff, d.stiffness_coeff])?;
         if d.mass_coeff < 0.0 || d.stiffness_coeff < 0.0 {
             return Err(JpError::invalid("damping", "coefficients must be >= 0"));
         }
@@ -211,6 +226,7 @@ impl Model {
                 return Err(JpError::bad_size("added damping matrix (rows x cols)", n * n, c.nrows() * c.ncols()));
             }
             check_symmetric("added damping matrix", c, SYMMETRY_TOLERANCE)?;
+            matrix_magnitude("added damping matrix", c)?;
         }
         if !(self.loss_factor.is_finite() && self.loss_factor >= 0.0) {
             return Err(JpError::invalid("loss factor", format!("must be finite and >= 0, got {}", self.loss_factor)));
@@ -219,8 +235,8 @@ impl Model {
         if e.static_force.len() != n {
             return Err(JpError::bad_size("excitation.static_force", n, e.static_force.len()));
         }
-        check_finite("excitation.static_force", &e.static_force)?;
-        check_finite("excitation.dynamic_scale", &[e.dynamic_scale])?;
+        check_magnitude("excitation.static_force", &e.static_force)?;
+        check_magnitude("excitation.dynamic_scale", &[e.dynamic_scale])?;
         for (i, hf) in e.harmonics.iter().enumerate() {
             let what = format!("excitation.harmonics[{i}]");
             if hf.cos.len() != n {
@@ -229,14 +245,38 @@ impl Model {
             if hf.sin.len() != n {
                 return Err(JpError::bad_size(format!("{what}.sin"), n, hf.sin.len()));
             }
-            check_finite(&format!("{what}.cos"), &hf.cos)?;
-            check_finite(&format!("{what}.sin"), &hf.sin)?;
+            // the force acts scaled: the scaled values are the ones bounded
+            let scaled: Vec<f64> = hf.cos.iter().chain(&hf.sin).map(|v| v * e.dynamic_scale).collect();
+            check_magnitude(&format!("{what} (cos then sin, times the dynamic scale {:e})", e.dynamic_scale), &scaled)?;
         }
+        self.check_displacement_scale()?;
         self.validate_contacts()?;
         for &o in &self.output_dofs {
             if o >= n {
                 return Err(JpError::invalid("output_dofs", format!("DoF {o} >= model size {n}")));
             }
+        }
+        Ok(())
+    }
+
+    /// The load's static displacement scale `|f|_inf / max_i K_ii` at most
+    /// [`MAX_DISPLACEMENT_SCALE`] (no bound without a positive diagonal stiffness).
+    fn check_displacement_scale(&self) -> Result<()> {
+        let k = (0..self.n_dof()).map(|i| self.stiffness[(i, i)]).fold(0.0f64, f64::max);
+        if !(k > 0.0) {
+            return Ok(());
+        }
+        let e = &self.excitation;
+        let harmonic = e.harmonics.iter().flat_map(|h| h.cos.iter().chain(&h.sin)).fold(0.0f64, |a, v| a.max(v.abs())) * e.dynamic_scale.abs();
+        let f = e.static_force.iter().fold(harmonic, |a, v| a.max(v.abs()));
+        if f / k > MAX_DISPLACEMENT_SCALE {
+            return Err(JpError::invalid(
+                "excitation",
+                format!(
+                    "the largest force {f:e} over the largest diagonal stiffness {k:e} is a displacement scale of {:e}, beyond jprom's limit of {MAX_DISPLACEMENT_SCALE:e}",
+                    f / k
+                ),
+            ));
         }
         Ok(())
     }
@@ -379,4 +419,3 @@ impl Document for Model {
         Ok(Ok(()))
     }
 }
-

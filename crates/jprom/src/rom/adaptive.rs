@@ -356,7 +356,7 @@ fn run_pass(
 ) -> Result<Pass> {
     let (sw, errors) = super::sweep_with_predicted_error(rom, sopts, hopts, &mut |p: &PointSolution| on_point(pass, p))?;
     if sw.points.is_empty() {
-        return Err(JpError::NoConvergence { what: "reduced sweep (no point)".into(), iterations: 0, residual: f64::NAN });
+        return Err(JpError::NoConvergence { what: "reduced sweep (no point)".into(), iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
     }
     let mut worst = -1.0f64;
     let mut worst_at = 0;

@@ -211,7 +211,7 @@ pub(super) fn sweep_from(
                 match jump {
                     Some((p, y_new)) => break (Corrected { y: y_new, iterations: p.iterations, residual: p.residual_norm, jacobian: None }, Vec::new(), 0.0),
                     None => {
-                        let e = last_error.take().unwrap_or_else(|| JpError::NoConvergence { what: "continuation".into(), iterations: 0, residual: f64::NAN });
+                        let e = last_error.take().unwrap_or_else(|| JpError::NoConvergence { what: "continuation".into(), iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
                         let text = format!("stalled {}: the step fell below min_step = {:e}; last corrector error: {e}", at(omega), sopts.min_step);
                         return Ok(finish(result, SweepEnd::StepTooSmall, Some(text), Some(e)));
                     }
@@ -239,7 +239,7 @@ pub(super) fn sweep_from(
                 // along that chord, led the sweep 200 points back down the band. A fold, where the
                 // branch does turn back, goes on along another part of it and is taken.
                 Ok(v) if back_onto_branch(&v.0) => {
-                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a step of {:.2} rad back onto the branch already traced", v.2), iterations: 0, residual: f64::NAN });
+                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a step of {:.2} rad back onto the branch already traced", v.2), iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
                     result.rejected_steps += 1;
                     ds *= 0.5;
                 }
@@ -261,7 +261,7 @@ pub(super) fn sweep_from(
                 // steps after it retraced the branch back down the band). The restart steps
                 // over the kink at fixed frequency instead.
                 Ok((_, _, angle)) if angle > sharp_turn(sopts) && 0.5 * ds < sopts.min_step => {
-                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a turn of {angle:.2} rad at the smallest step"), iterations: 0, residual: f64::NAN });
+                    last_error = Some(JpError::NoConvergence { what: format!("continuation: a turn of {angle:.2} rad at the smallest step"), iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
                     result.rejected_steps += 1;
                     ds *= 0.5;
                 }

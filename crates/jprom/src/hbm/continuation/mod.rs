@@ -296,10 +296,11 @@ fn correct(
             Ok(Corrected { residual: norm2(&c.residual[..n]), y: c.x, iterations: c.iterations, jacobian: c.jacobian })
         }
         Err(f) => Err(match f.error {
-            JpError::NoConvergence { iterations, residual, .. } => JpError::NoConvergence {
+            JpError::NoConvergence { iterations, residual, tolerance, .. } => JpError::NoConvergence {
                 what: format!("continuation corrector near omega = {omega}"),
                 iterations,
                 residual,
+                tolerance,
             },
             other => other,
         }),

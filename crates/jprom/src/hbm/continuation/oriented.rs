@@ -137,13 +137,16 @@ impl Context<'_> {
         let length = self.metric.dot(&chord, &chord).sqrt();
         if !(length <= 2.0 * ds) {
             return Err(JpError::NoConvergence {
-                what: format!("continuation: the corrector went {length:.3e} from the last point, more than twice the step {ds:.3e}, near omega = {}", c.y[n]),
-                iterations: c.iterations,
-                residual: c.residual,
+                what: format!("continuation: the corrected point lies {length:.3e} from the last one, more than twice the step {ds:.3e}, near omega = {}", c.y[n]),
+                iterations: 0,
+                residual: f64::NAN,
+                tolerance: f64::NAN,
             });
         }
         let m = self.metric;
-        let reject = |what: String, c: &Corrected| Err(JpError::NoConvergence { what, iterations: c.iterations, residual: c.residual });
+        // a converged point refused for where it lies: the message says why, with no residual
+        // (it met the tolerance) and no iteration count (the refusal was not an iteration)
+        let reject = |what: String| Err(JpError::NoConvergence { what, iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
         let sum: Vec<f64> = from.t.iter().zip(&forward).map(|(a, b)| a + b).collect();
         if sign == self.sigma {
             // the tangent oriented by the last one is the forward one: a turn below a right
@@ -151,7 +154,7 @@ impl Context<'_> {
             if m.dot(&chord, &sum) > 0.0 {
                 return Ok(Step { to: Oriented { y: c.y.clone(), t: forward }, corrected: c, branch_point: false });
             }
-            return reject(format!("continuation: the corrected point lies behind the last one on the branch, near omega = {}", c.y[n]), &c);
+            return reject(format!("continuation: the corrected point lies behind the last one on the branch, near omega = {}", c.y[n]));
         }
         // The determinant changed sign against the tangent oriented by the last one. A corner
         // that turns by more than a right angle: the chord lies within half the turn of the
@@ -170,9 +173,9 @@ impl Context<'_> {
             return Ok(Step { to: Oriented { y: c.y.clone(), t: own }, corrected: c, branch_point: true });
         }
         if reversal {
-            return reject(format!("continuation: the tangent turned back by more than pi - max_angle near omega = {}", c.y[n]), &c);
+            return reject(format!("continuation: the tangent turned back by more than pi - max_angle near omega = {}", c.y[n]));
         }
-        reject(format!("continuation: the corrected point lies behind the last one on the branch, near omega = {}", c.y[n]), &c)
+        reject(format!("continuation: the corrected point lies behind the last one on the branch, near omega = {}", c.y[n]))
     }
 
     /// One step from `from`: along its tangent, then along the tangent of the next piece, at
@@ -287,7 +290,7 @@ impl Context<'_> {
         let width: Vec<f64> = (0..=n).map(|i| hi.1.y[i] - lo.1.y[i]).collect();
         let moved: Vec<f64> = (0..=n).map(|i| c.y[i] - start[i]).collect();
         if m.dot(&moved, &moved) > m.dot(&width, &width) {
-            return Err(JpError::NoConvergence { what: format!("locating an event: the corrector left the bracket near omega = {}", c.y[n]), iterations: c.iterations, residual: c.residual });
+            return Err(JpError::NoConvergence { what: format!("locating an event: the corrected point left the bracket near omega = {}", c.y[n]), iterations: 0, residual: f64::NAN, tolerance: f64::NAN });
         }
         let bordered = match c.jacobian.take() {
             Some(m) => m,
@@ -470,8 +473,9 @@ pub(super) fn sweep_from(
                         "continuation: the branch came back to its point {i} at omega = {} (it circles where contacts change state)",
                         result.points[i].omega
                     ),
-                    iterations: step.corrected.iterations,
-                    residual: step.corrected.residual,
+                    iterations: 0,
+                    residual: f64::NAN,
+                    tolerance: f64::NAN,
                 }),
                 None => Ok((step, ds_taken)),
             }
