@@ -807,7 +807,7 @@ jprom_status jprom_set_memory_budget(size_t bytes);
 // Sets the time budget in seconds: the ceiling for the estimated time of one stage whose
 // cost grows as a power of sizes from the caller (a JP prediction's dense eigenproblems of
 // order `2 H n` at a high harmonic count `H`). The estimate counts floating-point
-// operations at an assumed 2e9 per second, before any of that work; a stage estimated above
+// operations at an assumed 1e10 per second, before any of that work; a stage estimated above
 // the budget returns `JPROM_BAD_SIZE` with the estimate. `seconds = 0` restores the default
 // of 3600 s; a negative or non-finite value is `JPROM_INVALID_VALUE` and changes nothing.
 // Process-wide.
