@@ -113,6 +113,14 @@ module jprom_c
       import :: c_int, c_size_t
       integer(c_size_t), intent(out) :: out
     end function
+    integer(c_int) function jprom_set_time_budget(seconds) bind(C, name="jprom_set_time_budget")
+      import :: c_int, c_double
+      real(c_double), value :: seconds
+    end function
+    integer(c_int) function jprom_time_budget(out) bind(C, name="jprom_time_budget")
+      import :: c_int, c_double
+      real(c_double), intent(out) :: out
+    end function
     integer(c_int) function jprom_set_reproducible(on) bind(C, name="jprom_set_reproducible")
       import :: c_int
       integer(c_int), value :: on
@@ -1040,7 +1048,7 @@ module jprom
   public :: JPROM_MAX_HARMONICS, JPROM_MAX_NT, JPROM_MAX_SAMPLES, JPROM_DENSE_MAX_DOF, JPROM_MAX_FORCE_HARMONIC
   ! errors, version, diagnostics
   public :: jp_last_error, jp_status_name, jp_version, jp_live_handle_count, jp_set_memory_budget, jp_memory_budget
-  public :: jp_set_reproducible, jp_reproducible
+  public :: jp_set_reproducible, jp_reproducible, jp_set_time_budget, jp_time_budget
   ! models
   public :: jp_model_new, jp_model_new_csc, jp_model_clone, jp_model_free, jp_model_sizes, jp_add_ground_contact, &
             jp_add_contact, jp_add_jenkins, jp_add_polynomial_spring, jp_add_unilateral_spring, jp_add_friction_2d, &
@@ -1184,6 +1192,20 @@ contains
     use jprom_c, only: jprom_memory_budget
     integer(c_size_t), intent(out) :: bytes
     jp_memory_budget = int(jprom_memory_budget(bytes))
+  end function
+
+  !> The time budget in seconds for stages whose cost grows with H (jprom_set_time_budget);
+  !> 0 restores the default of 3600 s.
+  integer function jp_set_time_budget(seconds)
+    use jprom_c, only: jprom_set_time_budget
+    real(c_double), intent(in) :: seconds
+    jp_set_time_budget = int(jprom_set_time_budget(seconds))
+  end function
+
+  integer function jp_time_budget(seconds)
+    use jprom_c, only: jprom_time_budget
+    real(c_double), intent(out) :: seconds
+    jp_time_budget = int(jprom_time_budget(seconds))
   end function
 
   !> Kernels on one thread (on = .true.), so that results do not depend on the thread count
