@@ -355,8 +355,9 @@ int main(int argc, char **argv) {
         jprom_solution_free(after);
     }
 
-    /* the time budget (issue 60): a harmonic count whose dense JP eigenproblems would take
-     * minutes is refused at once with the estimate */
+    /* the time budget (issue 60): a harmonic count whose dense JP eigenproblems (order
+     * 2 H n = 480 here) would take longer than the budget is refused on its estimate, before
+     * any eigen solve (the shift-invert path above order 512 is stopped between patterns) */
     {
         double seconds = 0.0;
         expect(jprom_time_budget(&seconds), JPROM_OK, "the default time budget", NULL);
@@ -365,12 +366,12 @@ int main(int argc, char **argv) {
         expect(jprom_set_time_budget(0.0 / 0.0), JPROM_INVALID_VALUE, "a NaN time budget", "must be finite and > 0 seconds");
         expect(jprom_set_time_budget(1.0), JPROM_OK, "a time budget of 1 s", NULL);
         jprom_hbm_options h64 = opts;
-        h64.harmonics = 64;
+        h64.harmonics = 40;
         jprom_basis *b64 = NULL;
         clock_t c0 = clock();
-        expect(jprom_basis_predict_opts(model, &h64, &jp, 60.0, 160.0, &b64), JPROM_BAD_SIZE, "basis_predict_opts at H = 64 beyond a 1 s budget", "than the time budget of 1.00 s (raise it with jprom_set_time_budget)");
+        expect(jprom_basis_predict_opts(model, &h64, &jp, 60.0, 160.0, &b64), JPROM_BAD_SIZE, "basis_predict_opts at H = 40 beyond a 1 s budget", "floating-point operations, about");
         check(b64 == NULL, "nothing written");
-        printf("H = 64 refused after %.1f s of CPU\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
+        printf("H = 40 refused after %.1f s of CPU\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
         expect(jprom_set_time_budget(0.0), JPROM_OK, "the default time budget restored", NULL);
         jprom_time_budget(&seconds);
         check(seconds == 3600.0, "restored to an hour");
